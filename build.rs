@@ -1,0 +1,309 @@
+//! Generates, from `src/hook/policy.txt` and the Khronos XML registries bundled with
+//! gl_generator: the exported hook shims, the hook table, the linker export list, and the
+//! GL/GLX/EGL bindings the layer uses for its own calls. Nothing here is hand-maintained per
+//! entry point; adding a hook is one line in the policy file plus its handler.
+
+use gl_generator::{Api, Cmd, Fallbacks, Profile, Registry, StructGenerator};
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::{env, fs};
+
+/// GL extensions whose entry points may be hooked (core names are always available).
+const GL_EXTENSIONS: &[&str] = &[
+    "GL_ARB_draw_instanced",
+    "GL_ARB_multi_draw_indirect",
+    "GL_EXT_direct_state_access",
+    "GL_ARB_framebuffer_object",
+];
+const GLX_EXTENSIONS: &[&str] = &["GLX_ARB_create_context", "GLX_ARB_get_proc_address"];
+const EGL_EXTENSIONS: &[&str] = &[
+    "EGL_KHR_swap_buffers_with_damage",
+    "EGL_EXT_swap_buffers_with_damage",
+    "EGL_EXT_platform_base",
+];
+
+struct Entry {
+    policy: String,
+    name: String,
+    api: &'static str,
+    params: Vec<(String, String)>,
+    ret: String,
+}
+
+fn main() {
+    let out = PathBuf::from(env::var("OUT_DIR").unwrap());
+    println!("cargo:rerun-if-changed=src/hook/policy.txt");
+    println!("cargo:rerun-if-changed=build.rs");
+
+    let gl = Registry::new(
+        Api::Gl,
+        (4, 6),
+        Profile::Compatibility,
+        Fallbacks::All,
+        GL_EXTENSIONS,
+    );
+    let glx = Registry::new(
+        Api::Glx,
+        (1, 4),
+        Profile::Core,
+        Fallbacks::All,
+        GLX_EXTENSIONS,
+    );
+    let egl = Registry::new(
+        Api::Egl,
+        (1, 5),
+        Profile::Core,
+        Fallbacks::All,
+        EGL_EXTENSIONS,
+    );
+    write_bindings(&out, &gl, &glx, &egl);
+
+    let policy = fs::read_to_string("src/hook/policy.txt").unwrap();
+    let registries = [("gl", &gl), ("glx", &glx), ("egl", &egl)];
+    let mut entries: Vec<Entry> = policy
+        .lines()
+        .enumerate()
+        .filter_map(|(n, l)| parse_line(n + 1, l, &registries))
+        .collect();
+    entries.sort_by(|a, b| a.name.cmp(&b.name));
+    fs::write(out.join("hooks.rs"), gen_hooks(&entries)).unwrap();
+    fs::write(out.join("exports.map"), gen_export_map(&entries)).unwrap();
+
+    let map = out.join("exports.map");
+    println!(
+        "cargo:rustc-cdylib-link-arg=-Wl,--version-script={}",
+        map.display()
+    );
+    println!("cargo:rustc-cdylib-link-arg=-Wl,-Bsymbolic-functions");
+}
+
+fn write_bindings(out: &Path, gl: &Registry, glx: &Registry, egl: &Registry) {
+    let mut f = fs::File::create(out.join("gl_bindings.rs")).unwrap();
+    gl.write_bindings(StructGenerator, &mut f).unwrap();
+    let mut x = fs::File::create(out.join("glx_bindings.rs")).unwrap();
+    glx.write_bindings(StructGenerator, &mut x).unwrap();
+    let mut e = fs::File::create(out.join("egl_bindings.rs")).unwrap();
+    egl.write_bindings(StructGenerator, &mut e).unwrap();
+}
+
+fn api_of(name: &str) -> (&'static str, &str) {
+    for (prefix, api) in [
+        ("glX", "glx"),
+        ("egl", "egl"),
+        ("OSMesa", "osmesa"),
+        ("gl", "gl"),
+    ] {
+        if let Some(rest) = name.strip_prefix(prefix) {
+            return (api, rest);
+        }
+    }
+    panic!("policy.txt: cannot tell the API of `{name}`");
+}
+
+fn parse_line(line_no: usize, line: &str, regs: &[(&str, &Registry)]) -> Option<Entry> {
+    let line = line.split('#').next().unwrap().trim();
+    if line.is_empty() {
+        return None;
+    }
+    let (policy, rest) = line
+        .split_once(char::is_whitespace)
+        .expect("policy.txt: missing name");
+    let policy = policy.to_string();
+    assert!(
+        ["track", "frame", "proc", "view"].contains(&policy.as_str()),
+        "policy.txt:{line_no}: unknown policy `{policy}`"
+    );
+    let rest = rest.trim_start();
+    let split = rest
+        .find(|c: char| c.is_whitespace() || c == '(')
+        .unwrap_or(rest.len());
+    let (name, sig) = (rest[..split].to_string(), rest[split..].trim());
+    let (api, short) = api_of(&name);
+    let (params, ret) = match Some(sig).filter(|s| !s.is_empty()) {
+        Some(sig) => parse_inline_signature(line_no, sig),
+        None => {
+            let reg = regs.iter().find(|(a, _)| *a == api).map(|(_, r)| *r);
+            let reg =
+                reg.unwrap_or_else(|| panic!("policy.txt:{line_no}: `{name}` needs a signature"));
+            let cmd = find_cmd(reg, short).unwrap_or_else(|| {
+                panic!("policy.txt:{line_no}: `{name}` is not in the {api} registry")
+            });
+            signature_of(cmd)
+        }
+    };
+    Some(Entry {
+        policy,
+        name,
+        api,
+        params,
+        ret,
+    })
+}
+
+fn find_cmd<'a>(reg: &'a Registry, short: &str) -> Option<&'a Cmd> {
+    reg.cmds.iter().find(|c| c.proto.ident == short)
+}
+
+fn signature_of(cmd: &Cmd) -> (Vec<(String, String)>, String) {
+    let params = cmd
+        .params
+        .iter()
+        .map(|b| (b.ident.clone(), b.ty.to_string()))
+        .collect();
+    (params, cmd.proto.ty.to_string())
+}
+
+/// `(a: T, b: U) -> R` with bare type names (resolved in the generated module's scope).
+fn parse_inline_signature(line_no: usize, sig: &str) -> (Vec<(String, String)>, String) {
+    let open = sig
+        .find('(')
+        .unwrap_or_else(|| panic!("policy.txt:{line_no}: bad signature"));
+    let close = sig
+        .rfind(')')
+        .unwrap_or_else(|| panic!("policy.txt:{line_no}: bad signature"));
+    let params = sig[open + 1..close]
+        .split(',')
+        .map(str::trim)
+        .filter(|p| !p.is_empty())
+        .map(|p| {
+            let (n, t) = p.split_once(':').expect("param needs `name: Type`");
+            (n.trim().to_string(), t.trim().to_string())
+        })
+        .collect();
+    let ret = sig[close + 1..]
+        .trim()
+        .strip_prefix("->")
+        .map(str::trim)
+        .unwrap_or("()");
+    (params, ret.to_string())
+}
+
+fn gen_hooks(entries: &[Entry]) -> String {
+    let mut s =
+        String::from("// @generated by build.rs from src/hook/policy.txt. Do not edit.\n\n");
+    let mut by_api: BTreeMap<&str, Vec<(usize, &Entry)>> = BTreeMap::new();
+    for (id, e) in entries.iter().enumerate() {
+        by_api.entry(e.api).or_default().push((id, e));
+    }
+    for (api, list) in &by_api {
+        writeln!(
+            s,
+            "pub mod {api} {{\n    #![allow(non_snake_case, unused_imports, clippy::all)]"
+        )
+        .unwrap();
+        writeln!(s, "    use {};", types_path(api)).unwrap();
+        writeln!(s, "    use core::ffi::{{c_void, c_char, c_int}};").unwrap();
+        writeln!(
+            s,
+            "    mod __gl_imports {{\n        pub use std::os::raw;\n    }}\n"
+        )
+        .unwrap();
+        for (id, e) in list {
+            s.push_str(&gen_shim(*id, e));
+        }
+        s.push_str("}\n\n");
+    }
+    s.push_str(&gen_table(entries));
+    s
+}
+
+fn types_path(api: &str) -> &'static str {
+    match api {
+        "egl" => "crate::gl::egl::types::{self, *}",
+        "glx" => "crate::gl::glx::types::{self, *}",
+        _ => "crate::gl::types::{self, *}",
+    }
+}
+
+fn gen_shim(id: usize, e: &Entry) -> String {
+    let params: Vec<String> = e.params.iter().map(|(n, t)| format!("{n}: {t}")).collect();
+    let tys: Vec<&str> = e.params.iter().map(|(_, t)| t.as_str()).collect();
+    let args: Vec<&str> = e.params.iter().map(|(n, _)| n.as_str()).collect();
+    let (params, tys, args) = (params.join(", "), tys.join(", "), args.join(", "));
+    let (name, ret, api) = (&e.name, &e.ret, e.api);
+    let resolver = if api == "gl" { "gl" } else { "global" };
+    format!(
+        r#"    /// Hook ({policy}): see `crate::hook::handlers::{api}::{name}`.
+    #[unsafe(no_mangle)]
+    pub unsafe extern "C" fn {name}({params}) -> {ret} {{
+        type Real = unsafe extern "C" fn({tys}) -> {ret};
+        let p = crate::hook::real::{resolver}({id});
+        if p.is_null() {{
+            return crate::hook::real::missing({id});
+        }}
+        // SAFETY: `p` is the real entry point of this very name, so it has this signature.
+        let real: Real = unsafe {{ core::mem::transmute::<*const c_void, Real>(p) }};
+        if !crate::hook::is_active() {{
+            return unsafe {{ real({args}) }};
+        }}
+        let last = core::cell::Cell::new(None);
+        let out = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {{
+            crate::hook::fail_point({id});
+            crate::hook::handlers::{api}::{name}(
+                |{args}| {{
+                    let v = unsafe {{ real({args}) }};
+                    last.set(Some(v));
+                    v
+                }},
+                {args}
+            )
+        }}));
+        match out {{
+            Ok(v) => v,
+            Err(_) => {{
+                crate::hook::handler_panicked({id});
+                match last.get() {{
+                    Some(v) => v,
+                    None => unsafe {{ real({args}) }},
+                }}
+            }}
+        }}
+    }}
+
+"#,
+        policy = e.policy
+    )
+}
+
+fn gen_table(entries: &[Entry]) -> String {
+    let mut s = format!("pub const HOOK_COUNT: usize = {};\n\n", entries.len());
+    s.push_str(
+        "/// Sorted by name (binary search on the `dlsym` path, which must not allocate).\n",
+    );
+    s.push_str("pub static HOOKS: [crate::hook::HookEntry; HOOK_COUNT] = [\n");
+    for e in entries {
+        let policy = capitalise(&e.policy);
+        let api = capitalise(e.api);
+        writeln!(
+            s,
+            "    crate::hook::HookEntry {{ name: c\"{n}\", api: crate::hook::HookApi::{api}, policy: crate::hook::Policy::{policy}, addr: crate::hook::HookAddr({a}::{n} as *const core::ffi::c_void) }},",
+            n = e.name,
+            a = e.api
+        )
+        .unwrap();
+    }
+    s.push_str("];\n\n/// Index of each hook in `HOOKS`.\n#[allow(non_upper_case_globals, dead_code)]\npub mod id {\n");
+    for (i, e) in entries.iter().enumerate() {
+        writeln!(s, "    pub const {}: usize = {i};", e.name).unwrap();
+    }
+    s.push_str("}\n");
+    s
+}
+
+fn capitalise(s: &str) -> String {
+    let mut c = s.chars();
+    c.next()
+        .map(|f| f.to_uppercase().collect::<String>() + c.as_str())
+        .unwrap_or_default()
+}
+
+/// The only symbols the shared object exports: the interposed loader functions and the hooks.
+fn gen_export_map(entries: &[Entry]) -> String {
+    let mut s = String::from("{\n  global:\n    dlsym;\n    dlopen;\n");
+    for e in entries {
+        writeln!(s, "    {};", e.name).unwrap();
+    }
+    s.push_str("  local:\n    *;\n};\n");
+    s
+}

@@ -1,0 +1,151 @@
+//! Configuration: `HOLOINJECT_*` variables → typed [`Settings`] for the layer. The launcher
+//! maps its options onto the same variables (`options::OPTIONS`), so running with
+//! `LD_PRELOAD` and the variables by hand behaves exactly like `holoinject run`.
+
+pub mod options;
+pub mod parse;
+
+use std::path::PathBuf;
+use std::sync::OnceLock;
+
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum FrameSet {
+    List(Vec<u64>),
+    Every(u64),
+}
+
+impl FrameSet {
+    pub fn contains(&self, frame: u64) -> bool {
+        match self {
+            FrameSet::List(l) => l.contains(&frame),
+            FrameSet::Every(n) => frame % n == 0,
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Boundary {
+    Finish,
+    Flush,
+}
+
+#[derive(Clone, Debug)]
+pub struct Settings {
+    pub dump_dir: Option<PathBuf>,
+    pub dump_frames: FrameSet,
+    pub exit_after: Option<u64>,
+    pub osmesa_boundary: Boundary,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            dump_dir: None,
+            dump_frames: FrameSet::Every(1),
+            exit_after: None,
+            osmesa_boundary: Boundary::Finish,
+        }
+    }
+}
+
+impl Settings {
+    /// Builds settings from a variable lookup; every bad value is reported (one line naming
+    /// the variable) and replaced by its default, so the app keeps running.
+    pub fn from_lookup(
+        get: impl Fn(&str) -> Option<String>,
+        report: &mut dyn FnMut(String),
+    ) -> Settings {
+        let mut s = Settings::default();
+        for opt in options::OPTIONS.iter().filter(|o| !o.launcher_only) {
+            let var = opt.env_name();
+            let Some(value) = get(&var) else { continue };
+            if let Err(e) = (opt.check)(&value) {
+                report(format!("{var}={value}: {e}; ignored"));
+                continue;
+            }
+            match opt.long {
+                "dump" => s.dump_dir = Some(PathBuf::from(value)),
+                "dump-frames" => {
+                    s.dump_frames = parse::frames(&value).unwrap_or(FrameSet::Every(1))
+                }
+                "exit-after" => s.exit_after = parse::frame_number(&value).ok(),
+                "osmesa-boundary" => {
+                    s.osmesa_boundary = parse::boundary(&value).unwrap_or(Boundary::Finish)
+                }
+                _ => {}
+            }
+        }
+        s
+    }
+
+    pub fn dumps(&self, frame: u64) -> bool {
+        self.dump_dir.is_some() && self.dump_frames.contains(frame)
+    }
+}
+
+static SETTINGS: OnceLock<Settings> = OnceLock::new();
+
+/// The process's settings, read from the environment once.
+pub fn settings() -> &'static Settings {
+    SETTINGS.get_or_init(|| {
+        Settings::from_lookup(|k| std::env::var(k).ok(), &mut |msg| {
+            crate::log::error(format_args!("{msg}"))
+        })
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::HashMap;
+
+    fn settings_of(vars: &[(&str, &str)]) -> (Settings, Vec<String>) {
+        let map: HashMap<String, String> = vars
+            .iter()
+            .map(|(k, v)| (k.to_string(), v.to_string()))
+            .collect();
+        let mut errors = vec![];
+        let s = Settings::from_lookup(|k| map.get(k).cloned(), &mut |e| errors.push(e));
+        (s, errors)
+    }
+
+    #[test]
+    fn reads_dump_and_exit_variables() {
+        let (s, errors) = settings_of(&[
+            ("HOLOINJECT_DUMP", "/tmp/d"),
+            ("HOLOINJECT_DUMP_FRAMES", "2,4"),
+            ("HOLOINJECT_EXIT_AFTER", "4"),
+        ]);
+        assert!(errors.is_empty());
+        assert!(s.dumps(4) && !s.dumps(3));
+        assert_eq!(s.exit_after, Some(4));
+    }
+
+    #[test]
+    fn bad_values_name_the_variable_and_fall_back() {
+        let (s, errors) = settings_of(&[
+            ("HOLOINJECT_EXIT_AFTER", "soon"),
+            ("HOLOINJECT_QUILT", "8x6"),
+        ]);
+        assert_eq!(s.exit_after, None);
+        assert_eq!(errors.len(), 2);
+        assert!(
+            errors[0].starts_with("HOLOINJECT_QUILT=8x6")
+                || errors[1].starts_with("HOLOINJECT_QUILT=8x6")
+        );
+        assert!(
+            errors
+                .iter()
+                .any(|e| e.starts_with("HOLOINJECT_EXIT_AFTER=soon"))
+        );
+    }
+
+    #[test]
+    fn every_option_has_help_and_a_distinct_variable() {
+        let mut names: Vec<String> = options::OPTIONS.iter().map(|o| o.env_name()).collect();
+        names.sort();
+        names.dedup();
+        assert_eq!(names.len(), options::OPTIONS.len());
+        assert!(options::OPTIONS.iter().all(|o| !o.help.is_empty()));
+    }
+}

@@ -1,0 +1,122 @@
+//! Value syntax shared by the launcher (flags) and the layer (environment).
+
+use super::{Boundary, FrameSet};
+
+pub fn grid(v: &str) -> Result<(u32, u32), String> {
+    let (a, b) = v
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("`{v}`: expected CxR, e.g. 8x6"))?;
+    let a: u32 = a
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{v}`: expected CxR, e.g. 8x6"))?;
+    let b: u32 = b
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{v}`: expected CxR, e.g. 8x6"))?;
+    if a == 0 || b == 0 || a > 16384 || b > 16384 {
+        return Err(format!("`{v}`: both numbers must be in 1..=16384"));
+    }
+    Ok((a, b))
+}
+
+pub fn mode(v: &str) -> Result<(), String> {
+    match v {
+        "exact" | "synth" | "auto" => Ok(()),
+        _ => match v.strip_prefix("hybrid:").map(str::parse::<u32>) {
+            Some(Ok(k)) if k >= 1 => Ok(()),
+            _ => Err(format!("`{v}`: expected exact|synth|hybrid:K|auto")),
+        },
+    }
+}
+
+pub fn output(v: &str) -> Result<(), String> {
+    match v {
+        "mono" => Ok(()),
+        "native" | "quilt" | "sbs" | "anaglyph" => Err(format!(
+            "`{v}`: multiview output is not available in this build yet; only `mono` (pass-through) works"
+        )),
+        _ => Err(format!("`{v}`: expected native|quilt|sbs|anaglyph|mono")),
+    }
+}
+
+pub fn finite(v: &str) -> Result<f64, String> {
+    v.trim()
+        .parse::<f64>()
+        .ok()
+        .filter(|x| x.is_finite())
+        .ok_or_else(|| format!("`{v}`: expected a number"))
+}
+
+pub fn positive(v: &str) -> Result<f64, String> {
+    finite(v).and_then(|x| {
+        if x > 0.0 {
+            Ok(x)
+        } else {
+            Err(format!("`{v}`: must be > 0"))
+        }
+    })
+}
+
+pub fn nonempty(v: &str) -> Result<(), String> {
+    if v.trim().is_empty() {
+        Err("empty value".into())
+    } else {
+        Ok(())
+    }
+}
+
+pub fn frame_number(v: &str) -> Result<u64, String> {
+    match v.trim().parse::<u64>() {
+        Ok(n) if n >= 1 => Ok(n),
+        _ => Err(format!(
+            "`{v}`: expected a frame number ≥ 1 (frames count from 1)"
+        )),
+    }
+}
+
+pub fn frames(v: &str) -> Result<FrameSet, String> {
+    if let Some(n) = v.trim().strip_prefix("every:") {
+        return frame_number(n).map(FrameSet::Every);
+    }
+    let list: Result<Vec<u64>, String> = v.split(',').map(frame_number).collect();
+    list.map(FrameSet::List)
+        .map_err(|e| format!("{e}; expected a list like 1,10,30 or every:N"))
+}
+
+pub fn boundary(v: &str) -> Result<Boundary, String> {
+    match v.trim() {
+        "finish" => Ok(Boundary::Finish),
+        "flush" => Ok(Boundary::Flush),
+        _ => Err(format!("`{v}`: expected finish|flush")),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn grid_accepts_cxr_and_rejects_nonsense() {
+        assert_eq!(grid("8x6"), Ok((8, 6)));
+        assert!(grid("0x6").is_err());
+        assert!(grid("8*6").is_err());
+        assert!(grid("100000x2").is_err());
+    }
+
+    #[test]
+    fn frame_lists_and_every() {
+        assert_eq!(frames("1,10,30"), Ok(FrameSet::List(vec![1, 10, 30])));
+        assert_eq!(frames("every:10"), Ok(FrameSet::Every(10)));
+        assert!(frames("0").is_err());
+        assert!(frames("every:x").is_err());
+        assert!(frames("1,,2").is_err());
+    }
+
+    #[test]
+    fn modes() {
+        assert!(mode("hybrid:3").is_ok());
+        assert!(mode("hybrid:0").is_err());
+        assert!(mode("fast").is_err());
+    }
+}

@@ -1,0 +1,192 @@
+//! Reading back the default framebuffer without the app noticing: every piece of state the
+//! read depends on is saved by [`PixelStateGuard`] and restored on drop, and only entry points
+//! valid for the context's version are called (so no GL error is left for the app to find).
+
+use super::{Gl, types::GLenum};
+use crate::state::GlInfo;
+
+/// Saved read-side state; restored on drop.
+struct PixelStateGuard<'a> {
+    gl: &'a Gl,
+    info: GlInfo,
+    read_fbo: i32,
+    draw_fbo: i32,
+    read_buffer: i32,
+    pack_buffer: i32,
+    pack: Vec<(GLenum, i32)>,
+}
+
+fn has_fbo(info: GlInfo) -> bool {
+    info.es || info.at_least(3, 0)
+}
+
+fn has_read_buffer(info: GlInfo) -> bool {
+    !info.es || info.at_least(3, 0)
+}
+
+fn has_pack_buffer(info: GlInfo) -> bool {
+    if info.es {
+        info.at_least(3, 0)
+    } else {
+        info.at_least(2, 1)
+    }
+}
+
+fn pack_params(info: GlInfo) -> &'static [GLenum] {
+    use super::*;
+    if !info.es {
+        &[
+            PACK_ALIGNMENT,
+            PACK_ROW_LENGTH,
+            PACK_SKIP_ROWS,
+            PACK_SKIP_PIXELS,
+            PACK_SWAP_BYTES,
+            PACK_LSB_FIRST,
+        ]
+    } else if info.at_least(3, 0) {
+        &[
+            PACK_ALIGNMENT,
+            PACK_ROW_LENGTH,
+            PACK_SKIP_ROWS,
+            PACK_SKIP_PIXELS,
+        ]
+    } else {
+        &[PACK_ALIGNMENT]
+    }
+}
+
+fn get(gl: &Gl, pname: GLenum) -> i32 {
+    let mut v = 0;
+    // SAFETY: a single-integer query into a local.
+    unsafe { gl.GetIntegerv(pname, &mut v) };
+    v
+}
+
+impl<'a> PixelStateGuard<'a> {
+    fn save(gl: &'a Gl, info: GlInfo) -> Self {
+        use super::*;
+        let fbo = has_fbo(info);
+        let split = fbo && (!info.es || info.at_least(3, 0));
+        let read_fbo = if split {
+            get(gl, READ_FRAMEBUFFER_BINDING)
+        } else if fbo {
+            get(gl, FRAMEBUFFER_BINDING)
+        } else {
+            0
+        };
+        let draw_fbo = if split {
+            get(gl, DRAW_FRAMEBUFFER_BINDING)
+        } else {
+            read_fbo
+        };
+        let read_buffer = if has_read_buffer(info) {
+            get(gl, READ_BUFFER)
+        } else {
+            0
+        };
+        let pack_buffer = if has_pack_buffer(info) {
+            get(gl, PIXEL_PACK_BUFFER_BINDING)
+        } else {
+            0
+        };
+        let pack = pack_params(info).iter().map(|&p| (p, get(gl, p))).collect();
+        PixelStateGuard {
+            gl,
+            info,
+            read_fbo,
+            draw_fbo,
+            read_buffer,
+            pack_buffer,
+            pack,
+        }
+    }
+}
+
+impl Drop for PixelStateGuard<'_> {
+    fn drop(&mut self) {
+        use super::*;
+        let (gl, info) = (self.gl, self.info);
+        // SAFETY: restoring values this guard read from the same current context.
+        unsafe {
+            if has_fbo(info) {
+                if !info.es || info.at_least(3, 0) {
+                    gl.BindFramebuffer(READ_FRAMEBUFFER, self.read_fbo as u32);
+                    gl.BindFramebuffer(DRAW_FRAMEBUFFER, self.draw_fbo as u32);
+                } else {
+                    gl.BindFramebuffer(FRAMEBUFFER, self.read_fbo as u32);
+                }
+            }
+            if has_read_buffer(info) && self.read_fbo == 0 {
+                gl.ReadBuffer(self.read_buffer as u32);
+            }
+            if has_pack_buffer(info) {
+                gl.BindBuffer(PIXEL_PACK_BUFFER, self.pack_buffer as u32);
+            }
+            for &(p, v) in &self.pack {
+                gl.PixelStorei(p, v);
+            }
+        }
+    }
+}
+
+/// Which colour buffer of the default framebuffer the app draws (and so presents).
+fn presented_buffer(gl: &Gl, info: GlInfo) -> Option<GLenum> {
+    use super::*;
+    if !has_read_buffer(info) {
+        return None;
+    }
+    if info.es {
+        return Some(BACK);
+    }
+    // SAFETY: binding the default framebuffer for draw only to ask for its draw buffer;
+    // the guard restores the app's binding.
+    if has_fbo(info) {
+        unsafe { gl.BindFramebuffer(DRAW_FRAMEBUFFER, 0) };
+    }
+    Some(match get(gl, DRAW_BUFFER) as GLenum {
+        FRONT | FRONT_LEFT | FRONT_RIGHT => FRONT,
+        _ => BACK,
+    })
+}
+
+/// RGBA8 rows, bottom-up, of the buffer the app is about to present.
+pub fn read_presented(gl: &Gl, info: GlInfo, w: u32, h: u32) -> Result<Vec<u8>, String> {
+    use super::*;
+    if !gl.ReadPixels.is_loaded() {
+        return Err("glReadPixels is not available".into());
+    }
+    let mut pixels = vec![0u8; w as usize * h as usize * 4];
+    let guard = PixelStateGuard::save(gl, info);
+    // SAFETY: the buffer holds w*h RGBA8 pixels with alignment 1 and no row length/skips, and
+    // no pack buffer is bound, so ReadPixels writes exactly into it.
+    unsafe {
+        if has_fbo(info) {
+            let target = if info.es && !info.at_least(3, 0) {
+                FRAMEBUFFER
+            } else {
+                READ_FRAMEBUFFER
+            };
+            gl.BindFramebuffer(target, 0);
+        }
+        if let Some(buffer) = presented_buffer(gl, info) {
+            gl.ReadBuffer(buffer);
+        }
+        if has_pack_buffer(info) {
+            gl.BindBuffer(PIXEL_PACK_BUFFER, 0);
+        }
+        for &(p, _) in &guard.pack {
+            gl.PixelStorei(p, if p == PACK_ALIGNMENT { 1 } else { 0 });
+        }
+        gl.ReadPixels(
+            0,
+            0,
+            w as i32,
+            h as i32,
+            RGBA,
+            UNSIGNED_BYTE,
+            pixels.as_mut_ptr().cast(),
+        );
+    }
+    drop(guard);
+    Ok(pixels)
+}

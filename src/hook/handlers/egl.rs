@@ -1,0 +1,98 @@
+//! EGL: context life cycle, current bindings and the swap frame boundaries.
+
+use crate::gl::egl::types::{
+    __eglMustCastToProperFunctionPointerType as EglProc, EGLBoolean, EGLConfig, EGLContext,
+    EGLDisplay, EGLSurface, EGLint,
+};
+use crate::state::{Binding, Platform};
+use core::ffi::c_char;
+
+pub fn eglCreateContext(
+    real: impl Fn(EGLDisplay, EGLConfig, EGLContext, *const EGLint) -> EGLContext,
+    dpy: EGLDisplay,
+    config: EGLConfig,
+    share: EGLContext,
+    attribs: *const EGLint,
+) -> EGLContext {
+    let ctx = real(dpy, config, share, attribs);
+    if !ctx.is_null() {
+        crate::state::context_created(Platform::Egl, ctx as usize, dpy as usize, share as usize);
+    }
+    ctx
+}
+
+pub fn eglMakeCurrent(
+    real: impl Fn(EGLDisplay, EGLSurface, EGLSurface, EGLContext) -> EGLBoolean,
+    dpy: EGLDisplay,
+    draw: EGLSurface,
+    read: EGLSurface,
+    ctx: EGLContext,
+) -> EGLBoolean {
+    let ok = real(dpy, draw, read, ctx);
+    if ok != 0 {
+        let binding = Binding {
+            display: dpy as usize,
+            draw: draw as usize,
+            read: read as usize,
+            size: None,
+        };
+        crate::state::make_current(Platform::Egl, ctx as usize, binding);
+    }
+    ok
+}
+
+pub fn eglDestroyContext(
+    real: impl Fn(EGLDisplay, EGLContext) -> EGLBoolean,
+    dpy: EGLDisplay,
+    ctx: EGLContext,
+) -> EGLBoolean {
+    let ok = real(dpy, ctx);
+    if ok != 0 {
+        crate::state::context_destroyed(Platform::Egl, ctx as usize);
+    }
+    ok
+}
+
+pub fn eglTerminate(real: impl Fn(EGLDisplay) -> EGLBoolean, dpy: EGLDisplay) -> EGLBoolean {
+    let ok = real(dpy);
+    if ok != 0 {
+        crate::state::display_terminated(Platform::Egl, dpy as usize);
+    }
+    ok
+}
+
+pub fn eglSwapBuffers(
+    real: impl Fn(EGLDisplay, EGLSurface) -> EGLBoolean,
+    dpy: EGLDisplay,
+    surface: EGLSurface,
+) -> EGLBoolean {
+    let mut ok = 0;
+    crate::output::frame_boundary(surface as usize, || ok = real(dpy, surface));
+    ok
+}
+
+pub fn eglSwapBuffersWithDamageKHR(
+    real: impl Fn(EGLDisplay, EGLSurface, *mut EGLint, EGLint) -> EGLBoolean,
+    dpy: EGLDisplay,
+    surface: EGLSurface,
+    rects: *mut EGLint,
+    n: EGLint,
+) -> EGLBoolean {
+    let mut ok = 0;
+    crate::output::frame_boundary(surface as usize, || ok = real(dpy, surface, rects, n));
+    ok
+}
+
+pub fn eglSwapBuffersWithDamageEXT(
+    real: impl Fn(EGLDisplay, EGLSurface, *mut EGLint, EGLint) -> EGLBoolean,
+    dpy: EGLDisplay,
+    surface: EGLSurface,
+    rects: *mut EGLint,
+    n: EGLint,
+) -> EGLBoolean {
+    eglSwapBuffersWithDamageKHR(real, dpy, surface, rects, n)
+}
+
+pub fn eglGetProcAddress(real: impl Fn(*const c_char) -> EglProc, name: *const c_char) -> EglProc {
+    super::proc_result(name, real(name).cast()) as EglProc
+}

@@ -1,0 +1,115 @@
+//! GLX: context life cycle, current bindings and the swap frame boundary.
+
+use crate::gl::glx::types::{
+    __GLXextFuncPtr, Bool, Display, GLXContext, GLXDrawable, GLXFBConfig, GLubyte, XVisualInfo,
+};
+use crate::state::{Binding, Platform};
+use core::ffi::c_int;
+
+fn created(ctx: GLXContext, dpy: *mut Display, share: GLXContext) -> GLXContext {
+    if !ctx.is_null() {
+        crate::state::context_created(Platform::Glx, ctx as usize, dpy as usize, share as usize);
+    }
+    ctx
+}
+
+pub fn glXCreateContext(
+    real: impl Fn(*mut Display, *mut XVisualInfo, GLXContext, Bool) -> GLXContext,
+    dpy: *mut Display,
+    vis: *mut XVisualInfo,
+    share: GLXContext,
+    direct: Bool,
+) -> GLXContext {
+    created(real(dpy, vis, share, direct), dpy, share)
+}
+
+pub fn glXCreateNewContext(
+    real: impl Fn(*mut Display, GLXFBConfig, c_int, GLXContext, Bool) -> GLXContext,
+    dpy: *mut Display,
+    config: GLXFBConfig,
+    render_type: c_int,
+    share: GLXContext,
+    direct: Bool,
+) -> GLXContext {
+    created(real(dpy, config, render_type, share, direct), dpy, share)
+}
+
+pub fn glXCreateContextAttribsARB(
+    real: impl Fn(*mut Display, GLXFBConfig, GLXContext, Bool, *const c_int) -> GLXContext,
+    dpy: *mut Display,
+    config: GLXFBConfig,
+    share: GLXContext,
+    direct: Bool,
+    attribs: *const c_int,
+) -> GLXContext {
+    created(real(dpy, config, share, direct, attribs), dpy, share)
+}
+
+fn made_current(
+    ok: Bool,
+    dpy: *mut Display,
+    draw: GLXDrawable,
+    read: GLXDrawable,
+    ctx: GLXContext,
+) -> Bool {
+    if ok != 0 {
+        let binding = Binding {
+            display: dpy as usize,
+            draw: draw as usize,
+            read: read as usize,
+            size: None,
+        };
+        crate::state::make_current(Platform::Glx, ctx as usize, binding);
+    }
+    ok
+}
+
+pub fn glXMakeCurrent(
+    real: impl Fn(*mut Display, GLXDrawable, GLXContext) -> Bool,
+    dpy: *mut Display,
+    drawable: GLXDrawable,
+    ctx: GLXContext,
+) -> Bool {
+    made_current(real(dpy, drawable, ctx), dpy, drawable, drawable, ctx)
+}
+
+pub fn glXMakeContextCurrent(
+    real: impl Fn(*mut Display, GLXDrawable, GLXDrawable, GLXContext) -> Bool,
+    dpy: *mut Display,
+    draw: GLXDrawable,
+    read: GLXDrawable,
+    ctx: GLXContext,
+) -> Bool {
+    made_current(real(dpy, draw, read, ctx), dpy, draw, read, ctx)
+}
+
+pub fn glXDestroyContext(
+    real: impl Fn(*mut Display, GLXContext),
+    dpy: *mut Display,
+    ctx: GLXContext,
+) {
+    real(dpy, ctx);
+    crate::state::context_destroyed(Platform::Glx, ctx as usize);
+}
+
+pub fn glXSwapBuffers(
+    real: impl Fn(*mut Display, GLXDrawable),
+    dpy: *mut Display,
+    drawable: GLXDrawable,
+) {
+    crate::output::frame_boundary(drawable as usize, || real(dpy, drawable));
+}
+
+pub fn glXGetProcAddress(
+    real: impl Fn(*const GLubyte) -> __GLXextFuncPtr,
+    name: *const GLubyte,
+) -> __GLXextFuncPtr {
+    super::proc_result(name.cast(), real(name).cast()) as __GLXextFuncPtr
+}
+
+pub fn glXGetProcAddressARB(
+    real: impl Fn(*const GLubyte) -> __GLXextFuncPtr,
+    name: *const GLubyte,
+) -> __GLXextFuncPtr {
+    super::proc_result(name.cast(), real(name).cast()) as __GLXextFuncPtr
+}

@@ -1,0 +1,106 @@
+//! Interposition only: the exported entry points (generated from `policy.txt`), the `dlsym` /
+//! `dlopen` interposers and real-function lookup. Handlers are a few lines each and hand over
+//! to `state` / `output`.
+//!
+//! # Safety contract
+//! Every exported shim catches panics from its handler; after the first one the whole layer
+//! turns itself into pass-through (`is_active() == false`) and logs once, because a handler
+//! that panicked may have left our shadow state inconsistent with the app's GL state.
+
+use core::ffi::{CStr, c_char, c_void};
+use std::sync::atomic::{AtomicBool, Ordering};
+
+pub mod dl;
+pub mod handlers;
+pub mod real;
+
+#[allow(unsafe_op_in_unsafe_fn, clippy::all)]
+mod exports {
+    include!(concat!(env!("OUT_DIR"), "/hooks.rs"));
+}
+pub use exports::{HOOK_COUNT, HOOKS, id};
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum HookApi {
+    Gl,
+    Glx,
+    Egl,
+    Osmesa,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Policy {
+    Track,
+    Frame,
+    Proc,
+    View,
+}
+
+/// A function address in a `static` table.
+#[derive(Clone, Copy)]
+pub struct HookAddr(pub *const c_void);
+// SAFETY: code addresses are immutable and valid on every thread.
+unsafe impl Sync for HookAddr {}
+
+pub struct HookEntry {
+    pub name: &'static CStr,
+    pub api: HookApi,
+    pub policy: Policy,
+    pub addr: HookAddr,
+}
+
+static DISABLED: AtomicBool = AtomicBool::new(false);
+
+/// False once a handler has failed: from then on every hook is a plain pass-through.
+#[inline]
+pub fn is_active() -> bool {
+    !DISABLED.load(Ordering::Relaxed)
+}
+
+/// Test hook: `HOLOINJECT_TEST_FAIL=NAME` makes the handler of NAME panic (see `handlers`).
+pub fn handler_panicked(id: usize) {
+    if !DISABLED.swap(true, Ordering::Relaxed) {
+        crate::log::error(format_args!(
+            "internal error in the {} hook; the layer is now pass-through for the rest of this run",
+            HOOKS[id].name.to_string_lossy()
+        ));
+    }
+}
+
+/// Finds a hook by C name without allocating (this runs inside `dlsym`).
+pub fn find(name: *const c_char) -> Option<usize> {
+    if name.is_null() {
+        return None;
+    }
+    // SAFETY: callers of dlsym/GetProcAddress pass NUL-terminated strings.
+    let bytes = unsafe { CStr::from_ptr(name) }.to_bytes();
+    let first = *bytes.first()?;
+    if first != b'g' && first != b'e' && first != b'O' {
+        return None;
+    }
+    HOOKS
+        .binary_search_by(|h| h.name.to_bytes().cmp(bytes))
+        .ok()
+}
+
+static FAIL_ID: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(usize::MAX);
+static FAIL_INIT: AtomicBool = AtomicBool::new(false);
+
+/// Forced internal error for robustness tests: `HOLOINJECT_TEST_FAIL=NAME` makes the handler
+/// of hook NAME panic, which must leave the app running, pass-through.
+#[inline]
+pub fn fail_point(id: usize) {
+    if !FAIL_INIT.load(Ordering::Relaxed) {
+        let target = std::env::var("HOLOINJECT_TEST_FAIL").ok();
+        let found =
+            target.and_then(|t| HOOKS.iter().position(|h| h.name.to_bytes() == t.as_bytes()));
+        FAIL_ID.store(found.unwrap_or(usize::MAX), Ordering::Relaxed);
+        FAIL_INIT.store(true, Ordering::Relaxed);
+    }
+    if FAIL_ID.load(Ordering::Relaxed) == id {
+        panic!(
+            "HOLOINJECT_TEST_FAIL: forced failure in {}",
+            HOOKS[id].name.to_string_lossy()
+        );
+    }
+}

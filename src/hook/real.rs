@@ -1,0 +1,111 @@
+//! Lookup of the real entry points behind our hooks.
+//!
+//! Order (after apitrace's `glproc_gl.cpp`): the cache; `dlsym(RTLD_NEXT)`; the GL libraries
+//! already loaded, by soname with `RTLD_NOLOAD` (an app may have opened them `RTLD_LOCAL`,
+//! which `RTLD_NEXT` cannot see); finally the platform's own `*GetProcAddress` for extension
+//! entry points no library exports. GL (not GLX/EGL) entry points are resolved per context
+//! through the loader of the platform that made it current, because an OSMesa context and a
+//! libGL one in the same process have different `glFinish`es.
+
+use super::{HOOK_COUNT, HOOKS, HookApi, dl, id};
+use core::ffi::{CStr, c_char, c_void};
+use std::sync::atomic::{AtomicPtr, Ordering};
+
+const SONAMES: &[&CStr] = &[
+    c"libGL.so.1",
+    c"libGLX.so.0",
+    c"libOpenGL.so.0",
+    c"libEGL.so.1",
+    c"libGLESv2.so.2",
+    c"libGLESv1_CM.so.1",
+    c"libOSMesa.so.8",
+    c"libOSMesa.so.6",
+];
+
+#[allow(clippy::declare_interior_mutable_const)]
+const NULL: AtomicPtr<c_void> = AtomicPtr::new(core::ptr::null_mut());
+static CACHE: [AtomicPtr<c_void>; HOOK_COUNT] = [NULL; HOOK_COUNT];
+
+/// The real function behind hook `id`, process-wide.
+pub fn global(id: usize) -> *const c_void {
+    let p = CACHE[id].load(Ordering::Acquire);
+    if !p.is_null() {
+        return p;
+    }
+    let found = lookup(id);
+    remember(id, found);
+    found
+}
+
+/// The real GL function behind hook `id` for the calling thread's current context.
+pub fn gl(id: usize) -> *const c_void {
+    crate::state::current_real(id).unwrap_or_else(|| global(id))
+}
+
+/// Records a real address found by the app's own lookup (first one wins).
+pub fn remember(id: usize, p: *const c_void) {
+    if !p.is_null() {
+        let _ = CACHE[id].compare_exchange(
+            core::ptr::null_mut(),
+            p as *mut c_void,
+            Ordering::AcqRel,
+            Ordering::Acquire,
+        );
+    }
+}
+
+/// What a hook returns when its real function cannot be found (it should never be reached:
+/// we only hand out hooks for functions that exist).
+pub fn missing<R>(id: usize) -> R {
+    crate::log::error(format_args!(
+        "no real {} found; the call is ignored",
+        HOOKS[id].name.to_string_lossy()
+    ));
+    // SAFETY: every hooked return type (integers, raw pointers, unit) is valid when zeroed.
+    unsafe { core::mem::zeroed() }
+}
+
+fn lookup(id: usize) -> *const c_void {
+    let loader = match HOOKS[id].api {
+        HookApi::Egl => Some(id::eglGetProcAddress),
+        HookApi::Glx | HookApi::Gl => Some(id::glXGetProcAddressARB),
+        HookApi::Osmesa => None,
+    };
+    // A loader must not be asked for itself.
+    lookup_name(HOOKS[id].name, loader.filter(|&l| l != id))
+}
+
+/// The real function `name` (one we do not hook), through the same chain.
+pub fn by_name(name: &CStr, api: HookApi) -> *const c_void {
+    let loader = match api {
+        HookApi::Egl => Some(id::eglGetProcAddress),
+        HookApi::Glx | HookApi::Gl => Some(id::glXGetProcAddressARB),
+        HookApi::Osmesa => None,
+    };
+    lookup_name(name, loader)
+}
+
+fn lookup_name(name: &CStr, loader: Option<usize>) -> *const c_void {
+    let p = dl::real_dlsym(libc::RTLD_NEXT, name.as_ptr());
+    if !p.is_null() {
+        return p;
+    }
+    for soname in SONAMES {
+        let p = dl::symbol_in_loaded(soname, name.as_ptr());
+        if !p.is_null() {
+            return p;
+        }
+    }
+    loader.map_or(core::ptr::null(), |l| via_loader(global(l), name))
+}
+
+/// Calls a real `*GetProcAddress` loader for `name`.
+pub fn via_loader(loader: *const c_void, name: &CStr) -> *const c_void {
+    if loader.is_null() {
+        return core::ptr::null();
+    }
+    // SAFETY: every platform loader has this signature.
+    let f: unsafe extern "C" fn(*const c_char) -> *const c_void =
+        unsafe { core::mem::transmute(loader) };
+    unsafe { f(name.as_ptr()) }
+}

@@ -1,0 +1,114 @@
+//! Logging to stderr at the level in `HOLOINJECT_LOG` (default `warn`); never stdout.
+//!
+//! The level is read with `getenv` into an atomic on first use: logging can happen inside
+//! `dlsym`, before Rust's runtime helpers are safe to initialise.
+
+use std::fmt::Arguments;
+use std::io::Write;
+use std::sync::atomic::{AtomicBool, AtomicU8, Ordering};
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Level {
+    Off = 1,
+    Error,
+    Warn,
+    Info,
+    Debug,
+    Trace,
+}
+
+impl Level {
+    pub fn parse(s: &str) -> Option<Level> {
+        Some(match s.trim().to_ascii_lowercase().as_str() {
+            "off" | "none" | "quiet" => Level::Off,
+            "error" => Level::Error,
+            "warn" | "warning" => Level::Warn,
+            "info" => Level::Info,
+            "debug" => Level::Debug,
+            "trace" => Level::Trace,
+            _ => return None,
+        })
+    }
+}
+
+static LEVEL: AtomicU8 = AtomicU8::new(0);
+static BAD_LEVEL: AtomicBool = AtomicBool::new(false);
+
+pub fn level() -> Level {
+    let l = LEVEL.load(Ordering::Relaxed);
+    if l != 0 {
+        // SAFETY: only valid discriminants are ever stored.
+        return unsafe { core::mem::transmute::<u8, Level>(l) };
+    }
+    // SAFETY: getenv with a valid C string; the result is copied before returning.
+    let raw = unsafe { libc::getenv(c"HOLOINJECT_LOG".as_ptr()) };
+    let parsed = if raw.is_null() {
+        Some(Level::Warn)
+    } else {
+        let s = unsafe { core::ffi::CStr::from_ptr(raw) }
+            .to_str()
+            .unwrap_or("");
+        Level::parse(s)
+    };
+    if parsed.is_none() {
+        BAD_LEVEL.store(true, Ordering::Relaxed);
+    }
+    let l = parsed.unwrap_or(Level::Warn);
+    LEVEL.store(l as u8, Ordering::Relaxed);
+    l
+}
+
+pub fn enabled(l: Level) -> bool {
+    l <= level()
+}
+
+fn emit(l: Level, args: Arguments) {
+    if enabled(l) {
+        let tag = format!("{l:?}").to_ascii_lowercase();
+        let _ = writeln!(std::io::stderr().lock(), "holoinject: {tag}: {args}");
+    }
+}
+
+pub fn error(args: Arguments) {
+    emit(Level::Error, args)
+}
+pub fn warn(args: Arguments) {
+    emit(Level::Warn, args)
+}
+pub fn info(args: Arguments) {
+    emit(Level::Info, args)
+}
+pub fn debug(args: Arguments) {
+    emit(Level::Debug, args)
+}
+
+/// Logs at `l` the first time `flag` is seen, then never again for that flag.
+pub fn once(flag: &AtomicBool, l: Level, args: Arguments) {
+    if !flag.swap(true, Ordering::Relaxed) {
+        emit(l, args)
+    }
+}
+
+static ANNOUNCED: AtomicBool = AtomicBool::new(false);
+
+/// The layer's start-up line (info level), printed on the first GL activity. Tests look for
+/// it to tell a loaded layer from a loader warning about a missing one.
+pub fn announce() {
+    if ANNOUNCED.swap(true, Ordering::Relaxed) {
+        return;
+    }
+    let exe = std::env::current_exe()
+        .map(|p| p.display().to_string())
+        .unwrap_or_default();
+    info(format_args!(
+        "holoinject {} active in pid {} ({exe})",
+        env!("CARGO_PKG_VERSION"),
+        std::process::id()
+    ));
+    if BAD_LEVEL.load(Ordering::Relaxed) {
+        warn(format_args!(
+            "HOLOINJECT_LOG: unknown level; using `warn` (off|error|warn|info|debug|trace)"
+        ));
+    }
+    crate::config::settings();
+}

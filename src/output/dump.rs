@@ -1,0 +1,23 @@
+//! `DIR/f{frame:06}_out.png`: exactly what the app presents, read back before the swap.
+
+use crate::config::Settings;
+use crate::gl::readback;
+
+pub fn presented(frame: u64, surface: usize, settings: &Settings) -> Result<(), String> {
+    let dir = settings.dump_dir.as_ref().ok_or("no dump directory")?;
+    let cur = crate::state::current().ok_or("no current context at the frame boundary")?;
+    if cur.binding.draw != surface {
+        return Err(format!(
+            "the presented surface {surface:#x} is not the one current on this thread"
+        ));
+    }
+    let (w, h) = super::surface::size(&cur).ok_or("the surface size is unknown")?;
+    let (gl, info) = cur
+        .ctx
+        .gl()
+        .ok_or("the context's GL functions could not be loaded")?;
+    let rgba = readback::read_presented(gl, *info, w, h)?;
+    let rgb = super::png::rgba_bottom_up_to_rgb_top_down(&rgba, w, h);
+    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    super::png::write_rgb(&dir.join(format!("f{frame:06}_out.png")), w, h, &rgb)
+}

@@ -1,0 +1,50 @@
+//! The frame boundary: what happens when the app presents (swap, or `glFinish` for OSMesa).
+//! Frames are numbered from 1 per process. Today: dump what is presented, then present, then
+//! honour `--exit-after`. The quilt composition and lenticular weave will hook in here.
+
+mod dump;
+pub mod png;
+mod surface;
+
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+
+static FRAME: AtomicU64 = AtomicU64::new(0);
+static DUMP_FAILED: AtomicBool = AtomicBool::new(false);
+
+/// The number of the last frame presented (0 before the first).
+pub fn frames_presented() -> u64 {
+    FRAME.load(Ordering::Relaxed)
+}
+
+/// Ends the frame drawn to `surface` (a GLX drawable, EGL surface or OSMesa buffer);
+/// `present` is the real swap.
+pub fn frame_boundary(surface: usize, present: impl FnOnce()) {
+    let frame = FRAME.fetch_add(1, Ordering::Relaxed) + 1;
+    let settings = crate::config::settings();
+    if settings.dumps(frame) {
+        if let Err(e) = dump::presented(frame, surface, settings) {
+            crate::log::once(
+                &DUMP_FAILED,
+                crate::log::Level::Error,
+                format_args!("frame {frame} not dumped: {e}"),
+            );
+        }
+    }
+    present();
+    if settings.exit_after == Some(frame) {
+        exit_after(frame);
+    }
+}
+
+fn exit_after(frame: u64) -> ! {
+    crate::log::info(format_args!(
+        "exit-after: frame {frame} presented; exiting with status 0"
+    ));
+    // `exit` would run the app's atexit handlers and C++ destructors from inside its swap
+    // call, where GL/X11 teardown can hang or crash; flushing stdio is all the app is owed.
+    // SAFETY: flushing all C streams and ending the process are always allowed.
+    unsafe {
+        libc::fflush(core::ptr::null_mut());
+        libc::_exit(0)
+    }
+}

@@ -1,0 +1,117 @@
+//! Per-context shadow state.
+//!
+//! Contexts live in one process-wide registry keyed by (platform, handle); resources are
+//! shared per share group; each thread knows its current context (and the surface it draws
+//! to). Contexts made current without us seeing their creation (created before a `dlopen`,
+//! or through an entry point we do not wrap) are registered lazily, in a share group of their
+//! own.
+
+mod context;
+
+pub use context::{Binding, Context, GlInfo, Platform};
+use std::cell::RefCell;
+use std::collections::HashMap;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard};
+
+type Key = (Platform, usize);
+
+static REGISTRY: Mutex<Option<HashMap<Key, Arc<Context>>>> = Mutex::new(None);
+static NEXT_GROUP: AtomicU64 = AtomicU64::new(1);
+
+thread_local! {
+    static CURRENT: RefCell<Option<Current>> = const { RefCell::new(None) };
+}
+
+/// What a thread has current: the context and the surface it draws to.
+#[derive(Clone)]
+pub struct Current {
+    pub ctx: Arc<Context>,
+    pub binding: Binding,
+}
+
+fn registry() -> MutexGuard<'static, Option<HashMap<Key, Arc<Context>>>> {
+    REGISTRY.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+pub fn context_created(platform: Platform, handle: usize, display: usize, share: usize) {
+    crate::log::announce();
+    let mut reg = registry();
+    let map = reg.get_or_insert_with(HashMap::new);
+    let group = match map.get(&(platform, share)) {
+        Some(shared) if share != 0 => shared.share_group,
+        _ => NEXT_GROUP.fetch_add(1, Ordering::Relaxed),
+    };
+    let ctx = Arc::new(Context::new(platform, handle, display, group));
+    crate::log::info(format_args!(
+        "{platform:?} context {handle:#x} created (share group {group})"
+    ));
+    map.insert((platform, handle), ctx);
+}
+
+fn lookup_or_adopt(platform: Platform, handle: usize, display: usize) -> Arc<Context> {
+    let mut reg = registry();
+    let map = reg.get_or_insert_with(HashMap::new);
+    map.entry((platform, handle))
+        .or_insert_with(|| {
+            let group = NEXT_GROUP.fetch_add(1, Ordering::Relaxed);
+            crate::log::info(format_args!(
+                "{platform:?} context {handle:#x} adopted at make-current"
+            ));
+            Arc::new(Context::new(platform, handle, display, group))
+        })
+        .clone()
+}
+
+/// `handle == 0` releases the thread's context.
+pub fn make_current(platform: Platform, handle: usize, binding: Binding) {
+    if handle == 0 {
+        CURRENT.with(|c| c.borrow_mut().take());
+        return;
+    }
+    crate::log::announce();
+    let ctx = lookup_or_adopt(platform, handle, binding.display);
+    ctx.on_made_current();
+    CURRENT.with(|c| *c.borrow_mut() = Some(Current { ctx, binding }));
+}
+
+pub fn context_destroyed(platform: Platform, handle: usize) {
+    if let Some(map) = registry().as_mut() {
+        map.remove(&(platform, handle));
+    }
+    // A context destroyed while current stays alive until released (GLX/EGL semantics).
+    crate::log::info(format_args!("{platform:?} context {handle:#x} destroyed"));
+}
+
+pub fn display_terminated(platform: Platform, display: usize) {
+    if let Some(map) = registry().as_mut() {
+        map.retain(|k, ctx| k.0 != platform || ctx.display != display);
+    }
+}
+
+/// The calling thread's current context and binding, if any.
+pub fn current() -> Option<Current> {
+    CURRENT.with(|c| c.borrow().clone())
+}
+
+/// Real GL entry point `id` as loaded for the current context.
+pub fn current_real(id: usize) -> Option<*const core::ffi::c_void> {
+    CURRENT
+        .with(|c| c.borrow().as_ref().map(|cur| cur.ctx.real_gl(id)))
+        .filter(|p| !p.is_null())
+}
+
+/// For contexts that never swap (OSMesa): the surface whose frame `glFinish` ends.
+pub fn swapless_surface() -> Option<usize> {
+    CURRENT.with(|c| {
+        c.borrow()
+            .as_ref()
+            .filter(|cur| cur.ctx.platform == Platform::Osmesa)
+            .map(|cur| cur.binding.draw)
+    })
+}
+
+/// Number of live contexts (diagnostics and leak tests).
+pub fn context_count() -> usize {
+    registry().as_ref().map_or(0, HashMap::len)
+}
