@@ -1,1 +1,108 @@
-fn main() {}
+//! The launcher: parse, check, set the environment, `exec`. All option knowledge lives in
+//! `holoinject::config` so the layer and the launcher cannot disagree.
+
+use holoinject::config::cli::{self, Launch};
+use std::ffi::{CString, OsString};
+use std::os::unix::fs::PermissionsExt;
+use std::os::unix::process::CommandExt;
+use std::path::{Path, PathBuf};
+
+fn main() {
+    if let Err(e) = run() {
+        eprintln!("holoinject: error: {e}");
+        std::process::exit(2);
+    }
+}
+
+fn run() -> Result<(), String> {
+    let args: Vec<OsString> = std::env::args_os().skip(1).collect();
+    match args.first().and_then(|a| a.to_str()) {
+        Some("run") if args.get(1).is_some_and(|a| a == "--help" || a == "-h") => print_help(),
+        Some("run") => launch(cli::parse_run(&args[1..])?),
+        Some("--version" | "-V") => {
+            println!("holoinject {}", env!("CARGO_PKG_VERSION"));
+            Ok(())
+        }
+        Some("--help" | "-h" | "help") | None => print_help(),
+        Some(other) => Err(format!("unknown command `{other}`; usage: holoinject run [OPTIONS] -- PROGRAM [ARGS…]")),
+    }
+}
+
+fn print_help() -> Result<(), String> {
+    print!("{}", cli::help());
+    Ok(())
+}
+
+fn launch(mut plan: Launch) -> Result<(), String> {
+    let lib = layer_library()?;
+    let program = find_program(&plan.program)?;
+    absolutise_dump_dir(&mut plan)?;
+    let preload = cli::ld_preload_with(std::env::var_os("LD_PRELOAD").as_deref(), &lib.to_string_lossy());
+    if plan.dry_run {
+        println!("LD_PRELOAD={preload}");
+        for (k, v) in &plan.env {
+            println!("{k}={v}");
+        }
+        let words: Vec<String> = std::iter::once(program.as_os_str()).chain(plan.args.iter().map(|a| a.as_os_str())).map(|w| shell_quote(&w.to_string_lossy())).collect();
+        println!("{}", words.join(" "));
+        return Ok(());
+    }
+    let err = std::process::Command::new(&program).args(&plan.args).envs(plan.env.iter().map(|(k, v)| (k, v))).env("LD_PRELOAD", preload).exec();
+    Err(format!("cannot run {}: {err}", program.display()))
+}
+
+/// `$HOLOINJECT_LIB`, else `libholoinject.so` beside this executable; it must load, or the
+/// program would run without the layer and only a loader warning would say so.
+fn layer_library() -> Result<PathBuf, String> {
+    let path = match std::env::var_os("HOLOINJECT_LIB") {
+        Some(p) => PathBuf::from(p),
+        None => {
+            let exe = std::env::current_exe().map_err(|e| format!("cannot locate this executable: {e}"))?;
+            exe.with_file_name("libholoinject.so")
+        }
+    };
+    let path = path.canonicalize().map_err(|e| format!("layer library {}: {e} (build it with `cargo build --release`, or set HOLOINJECT_LIB)", path.display()))?;
+    let c = CString::new(path.as_os_str().as_encoded_bytes()).map_err(|_| "layer path contains NUL".to_string())?;
+    // SAFETY: loading our own library locally only to prove it loads; it has no constructors.
+    let handle = unsafe { libc::dlopen(c.as_ptr(), libc::RTLD_NOW | libc::RTLD_LOCAL) };
+    if handle.is_null() {
+        // SAFETY: dlerror returns a static, NUL-terminated message after a failed dlopen.
+        let why = unsafe { std::ffi::CStr::from_ptr(libc::dlerror()) }.to_string_lossy().into_owned();
+        return Err(format!("layer library {} cannot be loaded: {why}", path.display()));
+    }
+    Ok(path)
+}
+
+fn find_program(program: &OsString) -> Result<PathBuf, String> {
+    let p = Path::new(program);
+    let candidates: Vec<PathBuf> = if p.components().count() > 1 {
+        vec![p.to_path_buf()]
+    } else {
+        std::env::split_paths(&std::env::var_os("PATH").unwrap_or_default()).map(|d| d.join(p)).collect()
+    };
+    let found = candidates.into_iter().find(|c| c.metadata().is_ok_and(|m| m.is_file() && m.permissions().mode() & 0o111 != 0));
+    found.ok_or_else(|| format!("program `{}` not found or not executable", p.display()))
+}
+
+/// The program may change directory, so the layer gets an absolute dump path, checked
+/// writable now rather than failing silently at the first frame.
+fn absolutise_dump_dir(plan: &mut Launch) -> Result<(), String> {
+    let Some((_, dir)) = plan.env.iter_mut().find(|(k, _)| k == "HOLOINJECT_DUMP") else {
+        return Ok(());
+    };
+    let path = std::path::absolute(dir.as_str()).map_err(|e| format!("--dump {dir}: {e}"))?;
+    std::fs::create_dir_all(&path).map_err(|e| format!("--dump {}: cannot create: {e}", path.display()))?;
+    let probe = path.join(".holoinject-write-test");
+    std::fs::write(&probe, b"").map_err(|e| format!("--dump {}: not writable: {e}", path.display()))?;
+    let _ = std::fs::remove_file(probe);
+    *dir = path.to_string_lossy().into_owned();
+    Ok(())
+}
+
+fn shell_quote(s: &str) -> String {
+    if !s.is_empty() && s.chars().all(|c| c.is_ascii_alphanumeric() || "-_./=:,+@%".contains(c)) {
+        s.to_string()
+    } else {
+        format!("'{}'", s.replace('\'', r"'\''"))
+    }
+}

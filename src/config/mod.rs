@@ -2,6 +2,7 @@
 //! maps its options onto the same variables (`options::OPTIONS`), so running with
 //! `LD_PRELOAD` and the variables by hand behaves exactly like `holoinject run`.
 
+pub mod cli;
 pub mod options;
 pub mod parse;
 
