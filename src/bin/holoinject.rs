@@ -24,7 +24,9 @@ fn run() -> Result<(), String> {
             Ok(())
         }
         Some("--help" | "-h" | "help") | None => print_help(),
-        Some(other) => Err(format!("unknown command `{other}`; usage: holoinject run [OPTIONS] -- PROGRAM [ARGS…]")),
+        Some(other) => Err(format!(
+            "unknown command `{other}`; usage: holoinject run [OPTIONS] -- PROGRAM [ARGS…]"
+        )),
     }
 }
 
@@ -37,17 +39,27 @@ fn launch(mut plan: Launch) -> Result<(), String> {
     let lib = layer_library()?;
     let program = find_program(&plan.program)?;
     absolutise_dump_dir(&mut plan)?;
-    let preload = cli::ld_preload_with(std::env::var_os("LD_PRELOAD").as_deref(), &lib.to_string_lossy());
+    let preload = cli::ld_preload_with(
+        std::env::var_os("LD_PRELOAD").as_deref(),
+        &lib.to_string_lossy(),
+    );
     if plan.dry_run {
         println!("LD_PRELOAD={preload}");
         for (k, v) in &plan.env {
             println!("{k}={v}");
         }
-        let words: Vec<String> = std::iter::once(program.as_os_str()).chain(plan.args.iter().map(|a| a.as_os_str())).map(|w| shell_quote(&w.to_string_lossy())).collect();
+        let words: Vec<String> = std::iter::once(program.as_os_str())
+            .chain(plan.args.iter().map(|a| a.as_os_str()))
+            .map(|w| shell_quote(&w.to_string_lossy()))
+            .collect();
         println!("{}", words.join(" "));
         return Ok(());
     }
-    let err = std::process::Command::new(&program).args(&plan.args).envs(plan.env.iter().map(|(k, v)| (k, v))).env("LD_PRELOAD", preload).exec();
+    let err = std::process::Command::new(&program)
+        .args(&plan.args)
+        .envs(plan.env.iter().map(|(k, v)| (k, v)))
+        .env("LD_PRELOAD", preload)
+        .exec();
     Err(format!("cannot run {}: {err}", program.display()))
 }
 
@@ -57,18 +69,30 @@ fn layer_library() -> Result<PathBuf, String> {
     let path = match std::env::var_os("HOLOINJECT_LIB") {
         Some(p) => PathBuf::from(p),
         None => {
-            let exe = std::env::current_exe().map_err(|e| format!("cannot locate this executable: {e}"))?;
+            let exe = std::env::current_exe()
+                .map_err(|e| format!("cannot locate this executable: {e}"))?;
             exe.with_file_name("libholoinject.so")
         }
     };
-    let path = path.canonicalize().map_err(|e| format!("layer library {}: {e} (build it with `cargo build --release`, or set HOLOINJECT_LIB)", path.display()))?;
-    let c = CString::new(path.as_os_str().as_encoded_bytes()).map_err(|_| "layer path contains NUL".to_string())?;
+    let path = path.canonicalize().map_err(|e| {
+        format!(
+            "layer library {}: {e} (build it with `cargo build --release`, or set HOLOINJECT_LIB)",
+            path.display()
+        )
+    })?;
+    let c = CString::new(path.as_os_str().as_encoded_bytes())
+        .map_err(|_| "layer path contains NUL".to_string())?;
     // SAFETY: loading our own library locally only to prove it loads; it has no constructors.
     let handle = unsafe { libc::dlopen(c.as_ptr(), libc::RTLD_NOW | libc::RTLD_LOCAL) };
     if handle.is_null() {
         // SAFETY: dlerror returns a static, NUL-terminated message after a failed dlopen.
-        let why = unsafe { std::ffi::CStr::from_ptr(libc::dlerror()) }.to_string_lossy().into_owned();
-        return Err(format!("layer library {} cannot be loaded: {why}", path.display()));
+        let why = unsafe { std::ffi::CStr::from_ptr(libc::dlerror()) }
+            .to_string_lossy()
+            .into_owned();
+        return Err(format!(
+            "layer library {} cannot be loaded: {why}",
+            path.display()
+        ));
     }
     Ok(path)
 }
@@ -78,9 +102,14 @@ fn find_program(program: &OsString) -> Result<PathBuf, String> {
     let candidates: Vec<PathBuf> = if p.components().count() > 1 {
         vec![p.to_path_buf()]
     } else {
-        std::env::split_paths(&std::env::var_os("PATH").unwrap_or_default()).map(|d| d.join(p)).collect()
+        std::env::split_paths(&std::env::var_os("PATH").unwrap_or_default())
+            .map(|d| d.join(p))
+            .collect()
     };
-    let found = candidates.into_iter().find(|c| c.metadata().is_ok_and(|m| m.is_file() && m.permissions().mode() & 0o111 != 0));
+    let found = candidates.into_iter().find(|c| {
+        c.metadata()
+            .is_ok_and(|m| m.is_file() && m.permissions().mode() & 0o111 != 0)
+    });
     found.ok_or_else(|| format!("program `{}` not found or not executable", p.display()))
 }
 
@@ -91,16 +120,21 @@ fn absolutise_dump_dir(plan: &mut Launch) -> Result<(), String> {
         return Ok(());
     };
     let path = std::path::absolute(dir.as_str()).map_err(|e| format!("--dump {dir}: {e}"))?;
-    std::fs::create_dir_all(&path).map_err(|e| format!("--dump {}: cannot create: {e}", path.display()))?;
+    std::fs::create_dir_all(&path)
+        .map_err(|e| format!("--dump {}: cannot create: {e}", path.display()))?;
     let probe = path.join(".holoinject-write-test");
-    std::fs::write(&probe, b"").map_err(|e| format!("--dump {}: not writable: {e}", path.display()))?;
+    std::fs::write(&probe, b"")
+        .map_err(|e| format!("--dump {}: not writable: {e}", path.display()))?;
     let _ = std::fs::remove_file(probe);
     *dir = path.to_string_lossy().into_owned();
     Ok(())
 }
 
 fn shell_quote(s: &str) -> String {
-    if !s.is_empty() && s.chars().all(|c| c.is_ascii_alphanumeric() || "-_./=:,+@%".contains(c)) {
+    if !s.is_empty()
+        && s.chars()
+            .all(|c| c.is_ascii_alphanumeric() || "-_./=:,+@%".contains(c))
+    {
         s.to_string()
     } else {
         format!("'{}'", s.replace('\'', r"'\''"))

@@ -16,11 +16,19 @@ pub struct Launch {
 impl Launch {
     pub fn get(&self, long: &str) -> Option<&str> {
         let name = options::find(long)?.env_name();
-        self.env.iter().rev().find(|(k, _)| *k == name).map(|(_, v)| v.as_str())
+        self.env
+            .iter()
+            .rev()
+            .find(|(k, _)| *k == name)
+            .map(|(_, v)| v.as_str())
     }
 }
 
-fn value_for(opt: &OptDef, inline: Option<&str>, rest: &mut std::slice::Iter<OsString>) -> Result<String, String> {
+fn value_for(
+    opt: &OptDef,
+    inline: Option<&str>,
+    rest: &mut std::slice::Iter<OsString>,
+) -> Result<String, String> {
     let value = match inline {
         Some(v) => v.to_string(),
         None => rest
@@ -35,7 +43,12 @@ fn value_for(opt: &OptDef, inline: Option<&str>, rest: &mut std::slice::Iter<OsS
 
 /// Parses the arguments after `run`.
 pub fn parse_run(args: &[OsString]) -> Result<Launch, String> {
-    let mut launch = Launch { env: vec![], program: OsString::new(), args: vec![], dry_run: false };
+    let mut launch = Launch {
+        env: vec![],
+        program: OsString::new(),
+        args: vec![],
+        dry_run: false,
+    };
     let mut it = args.iter();
     while let Some(arg) = it.next() {
         let Some(text) = arg.to_str().filter(|t| t.starts_with("--")) else {
@@ -50,7 +63,8 @@ pub fn parse_run(args: &[OsString]) -> Result<Launch, String> {
             Some((n, v)) => (n, Some(v)),
             None => (&text[2..], None),
         };
-        let opt = options::find(name).ok_or_else(|| format!("unknown option --{name} (see `holoinject run --help`)"))?;
+        let opt = options::find(name)
+            .ok_or_else(|| format!("unknown option --{name} (see `holoinject run --help`)"))?;
         if opt.value.is_empty() {
             if inline.is_some() {
                 return Err(format!("--{name} takes no value"));
@@ -74,7 +88,11 @@ pub fn ld_preload_with(existing: Option<&OsStr>, lib: &str) -> String {
     if existing.split([':', ' ']).any(|e| e == lib) {
         return existing.to_string();
     }
-    if existing.is_empty() { lib.to_string() } else { format!("{existing}:{lib}") }
+    if existing.is_empty() {
+        lib.to_string()
+    } else {
+        format!("{existing}:{lib}")
+    }
 }
 
 pub fn help() -> String {
@@ -85,7 +103,11 @@ pub fn help() -> String {
          beside this binary or at $HOLOINJECT_LIB), which is appended to LD_PRELOAD.\n\noptions:\n",
     );
     for o in options::OPTIONS {
-        let head = if o.value.is_empty() { format!("--{}", o.long) } else { format!("--{} {}", o.long, o.value) };
+        let head = if o.value.is_empty() {
+            format!("--{}", o.long)
+        } else {
+            format!("--{} {}", o.long, o.value)
+        };
         s.push_str(&format!("  {head:<42} {}\n", o.help));
     }
     s
@@ -101,8 +123,22 @@ mod tests {
 
     #[test]
     fn maps_options_to_variables_and_keeps_program_args() {
-        let l = parse_run(&args(&["--dump", "/tmp/x", "--exit-after=3", "--", "glxgears", "-info"])).unwrap();
-        assert_eq!(l.env, vec![("HOLOINJECT_DUMP".into(), "/tmp/x".into()), ("HOLOINJECT_EXIT_AFTER".into(), "3".into())]);
+        let l = parse_run(&args(&[
+            "--dump",
+            "/tmp/x",
+            "--exit-after=3",
+            "--",
+            "glxgears",
+            "-info",
+        ]))
+        .unwrap();
+        assert_eq!(
+            l.env,
+            vec![
+                ("HOLOINJECT_DUMP".into(), "/tmp/x".into()),
+                ("HOLOINJECT_EXIT_AFTER".into(), "3".into())
+            ]
+        );
         assert_eq!(l.program, "glxgears");
         assert_eq!(l.args, args(&["-info"]));
         assert_eq!(l.get("exit-after"), Some("3"));
@@ -132,15 +168,25 @@ mod tests {
     #[test]
     fn ld_preload_appends_once() {
         assert_eq!(ld_preload_with(None, "/l/h.so"), "/l/h.so");
-        assert_eq!(ld_preload_with(Some(OsStr::new("a.so")), "/l/h.so"), "a.so:/l/h.so");
-        assert_eq!(ld_preload_with(Some(OsStr::new("a.so /l/h.so")), "/l/h.so"), "a.so /l/h.so");
+        assert_eq!(
+            ld_preload_with(Some(OsStr::new("a.so")), "/l/h.so"),
+            "a.so:/l/h.so"
+        );
+        assert_eq!(
+            ld_preload_with(Some(OsStr::new("a.so /l/h.so")), "/l/h.so"),
+            "a.so /l/h.so"
+        );
     }
 
     #[test]
     fn help_lists_every_option() {
         let h = help();
         for o in options::OPTIONS {
-            assert!(h.contains(&format!("--{}", o.long)), "--{} missing from help", o.long);
+            assert!(
+                h.contains(&format!("--{}", o.long)),
+                "--{} missing from help",
+                o.long
+            );
         }
     }
 }

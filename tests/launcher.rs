@@ -1,0 +1,161 @@
+//! The launcher's contract: options map to variables, bad input is one clear line and a
+//! non-zero status, and the layer it preloads really loads.
+
+mod util;
+use util::*;
+
+fn launch(args: &[&str], env: &[(&str, &str)]) -> std::process::Output {
+    run(&launcher(), args, env)
+}
+
+fn assert_one_line_error(out: &std::process::Output, needle: &str) {
+    assert!(!out.status.success(), "expected failure, got success");
+    let err = stderr(out);
+    assert_eq!(err.lines().count(), 1, "expected one line, got: {err}");
+    assert!(
+        err.starts_with("holoinject: error: ") && err.contains(needle),
+        "`{needle}` not in: {err}"
+    );
+    assert!(!err.contains("panicked"), "{err}");
+}
+
+#[test]
+fn dry_run_prints_preload_variables_and_command() {
+    let dir = temp_dir("dry_run");
+    let dump = dir.join("frames");
+    let out = launch(
+        &[
+            "run",
+            "--dry-run",
+            "--dump",
+            dump.to_str().unwrap(),
+            "--exit-after",
+            "7",
+            "--log",
+            "debug",
+            "--",
+            "true",
+            "a b",
+        ],
+        &[("LD_PRELOAD", "other.so")],
+    );
+    assert_success(&out, "dry run");
+    let text = String::from_utf8_lossy(&out.stdout);
+    let lib = layer_lib().canonicalize().unwrap();
+    assert!(
+        text.contains(&format!("LD_PRELOAD=other.so:{}", lib.display())),
+        "{text}"
+    );
+    assert!(
+        text.contains(&format!("HOLOINJECT_DUMP={}", dump.display())),
+        "{text}"
+    );
+    assert!(
+        text.contains("HOLOINJECT_EXIT_AFTER=7") && text.contains("HOLOINJECT_LOG=debug"),
+        "{text}"
+    );
+    assert!(
+        text.lines().last().unwrap().ends_with("/true 'a b'"),
+        "{text}"
+    );
+}
+
+#[test]
+fn unknown_option_is_one_line_error() {
+    assert_one_line_error(
+        &launch(&["run", "--frobnicate", "--", "true"], &[]),
+        "unknown option --frobnicate",
+    );
+}
+
+#[test]
+fn bad_quilt_syntax_is_one_line_error() {
+    assert_one_line_error(
+        &launch(&["run", "--quilt", "8by6", "--", "true"], &[]),
+        "--quilt 8by6",
+    );
+}
+
+#[test]
+fn options_not_available_yet_are_refused_not_ignored() {
+    for args in [
+        ["--output", "quilt"],
+        ["--quilt", "8x6"],
+        ["--depthiness", "0.1"],
+        ["--mode", "exact"],
+    ] {
+        let mut all = vec!["run"];
+        all.extend(args);
+        all.extend(["--", "true"]);
+        assert_one_line_error(&launch(&all, &[]), "not available");
+    }
+}
+
+#[test]
+fn missing_program_is_one_line_error() {
+    assert_one_line_error(
+        &launch(&["run", "--", "no-such-program-xyz"], &[]),
+        "no-such-program-xyz",
+    );
+    assert_one_line_error(&launch(&["run", "--log", "info"], &[]), "no program given");
+}
+
+#[test]
+fn unwritable_dump_dir_is_one_line_error() {
+    let dir = temp_dir("unwritable_dump");
+    let file = dir.join("a-file");
+    std::fs::write(&file, b"x").unwrap();
+    let target = file.join("sub");
+    assert_one_line_error(
+        &launch(
+            &["run", "--dump", target.to_str().unwrap(), "--", "true"],
+            &[],
+        ),
+        "--dump",
+    );
+}
+
+#[test]
+fn missing_or_unloadable_layer_library_is_detected() {
+    let dir = temp_dir("bad_lib");
+    let missing = dir.join("libholoinject.so");
+    assert_one_line_error(
+        &launch(
+            &["run", "--", "true"],
+            &[("HOLOINJECT_LIB", missing.to_str().unwrap())],
+        ),
+        "layer library",
+    );
+    std::fs::write(&missing, b"not an ELF file").unwrap();
+    assert_one_line_error(
+        &launch(
+            &["run", "--", "true"],
+            &[("HOLOINJECT_LIB", missing.to_str().unwrap())],
+        ),
+        "cannot be loaded",
+    );
+}
+
+#[test]
+fn program_exit_status_and_arguments_pass_through() {
+    let out = launch(
+        &["run", "--", "sh", "-c", "echo \"$0:$1\"; exit 3", "x", "y"],
+        &[],
+    );
+    assert_eq!(out.status.code(), Some(3));
+    assert_eq!(String::from_utf8_lossy(&out.stdout), "x:y\n");
+}
+
+#[test]
+fn help_documents_every_option() {
+    let out = launch(&["run", "--help"], &[]);
+    assert_success(&out, "help");
+    let text = String::from_utf8_lossy(&out.stdout);
+    for o in holoinject::config::options::OPTIONS {
+        assert!(
+            text.contains(&format!("--{}", o.long)),
+            "--{} undocumented",
+            o.long
+        );
+    }
+}
