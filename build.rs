@@ -15,6 +15,7 @@ const GL_EXTENSIONS: &[&str] = &[
     "GL_ARB_multi_draw_indirect",
     "GL_EXT_direct_state_access",
     "GL_ARB_framebuffer_object",
+    "GL_EXT_framebuffer_object",
 ];
 const GLX_EXTENSIONS: &[&str] = &["GLX_ARB_create_context", "GLX_ARB_get_proc_address"];
 const EGL_EXTENSIONS: &[&str] = &[

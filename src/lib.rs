@@ -24,5 +24,8 @@ pub mod config;
 pub mod gl;
 pub mod hook;
 pub mod log;
+pub mod camera;
+pub mod multiview;
 pub mod output;
+pub mod shader;
 pub mod state;

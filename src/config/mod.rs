@@ -25,6 +25,39 @@ impl FrameSet {
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Output {
+    Native,
+    Quilt,
+    SideBySide,
+    Anaglyph,
+    Mono,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Convergence {
+    Auto,
+    Fixed(f64),
+}
+
+/// The multiview rig as configured (what is not given is decided per context from the
+/// window size and the scene).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ViewSettings {
+    pub output: Output,
+    pub quilt: (u32, u32),
+    pub tile: Option<(u32, u32)>,
+    pub depthiness: Option<f64>,
+    pub convergence: Convergence,
+    pub focus: f64,
+}
+
+impl Default for ViewSettings {
+    fn default() -> Self {
+        ViewSettings { output: Output::Quilt, quilt: (8, 6), tile: None, depthiness: None, convergence: Convergence::Auto, focus: 0.0 }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Boundary {
     Finish,
     Flush,
@@ -36,6 +69,7 @@ pub struct Settings {
     pub dump_frames: FrameSet,
     pub exit_after: Option<u64>,
     pub osmesa_boundary: Boundary,
+    pub view: ViewSettings,
 }
 
 impl Default for Settings {
@@ -45,6 +79,7 @@ impl Default for Settings {
             dump_frames: FrameSet::Every(1),
             exit_after: None,
             osmesa_boundary: Boundary::Finish,
+            view: ViewSettings::default(),
         }
     }
 }
@@ -73,10 +108,21 @@ impl Settings {
                 "osmesa-boundary" => {
                     s.osmesa_boundary = parse::boundary(&value).unwrap_or(Boundary::Finish)
                 }
+                "output" => s.view.output = parse::output(&value).unwrap_or(Output::Quilt),
+                "quilt" => s.view.quilt = parse::grid(&value).unwrap_or((8, 6)),
+                "tile" => s.view.tile = parse::grid(&value).ok(),
+                "depthiness" => s.view.depthiness = parse::finite(&value).ok(),
+                "convergence" => s.view.convergence = parse::convergence(&value).unwrap_or(Convergence::Auto),
+                "focus" => s.view.focus = parse::finite(&value).unwrap_or(0.0),
                 _ => {}
             }
         }
         s
+    }
+
+    /// Multiview is on unless the user asked for the app's own image.
+    pub fn multiview(&self) -> bool {
+        self.view.output != Output::Mono
     }
 
     pub fn dumps(&self, frame: u64) -> bool {
@@ -126,14 +172,12 @@ mod tests {
     fn bad_values_name_the_variable_and_fall_back() {
         let (s, errors) = settings_of(&[
             ("HOLOINJECT_EXIT_AFTER", "soon"),
-            ("HOLOINJECT_QUILT", "8x6"),
+            ("HOLOINJECT_QUILT", "8by6"),
         ]);
         assert_eq!(s.exit_after, None);
+        assert_eq!(s.view.quilt, (8, 6));
         assert_eq!(errors.len(), 2);
-        assert!(
-            errors[0].starts_with("HOLOINJECT_QUILT=8x6")
-                || errors[1].starts_with("HOLOINJECT_QUILT=8x6")
-        );
+        assert!(errors.iter().any(|e| e.starts_with("HOLOINJECT_QUILT=8by6")));
         assert!(
             errors
                 .iter()

@@ -23,140 +23,41 @@ impl OptDef {
     }
 }
 
-/// The multiview features these options configure arrive with issue #3 (exact quilt).
-const PLANNED: &str =
-    "multiview output is not available in this build yet; only pass-through (--output mono) works";
+/// Features that arrive with later issues are refused, not ignored.
+const PLANNED: &str = "not available in this build yet";
 
+type Check = fn(&str) -> Result<(), String>;
+
+const fn opt(long: &'static str, value: &'static str, help: &'static str, check: Check) -> OptDef {
+    OptDef { long, value, help, check, launcher_only: false }
+}
+
+#[rustfmt::skip]
 pub static OPTIONS: &[OptDef] = &[
-    OptDef {
-        long: "quilt",
-        value: "CxR",
-        help: "quilt columns x rows (views = C*R)",
-        check: |v| {
-            super::parse::grid(v)?;
-            Err(PLANNED.into())
-        },
-        launcher_only: false,
-    },
-    OptDef {
-        long: "tile",
-        value: "WxH",
-        help: "size of one view's tile in the quilt, pixels",
-        check: |v| {
-            super::parse::grid(v)?;
-            Err(PLANNED.into())
-        },
-        launcher_only: false,
-    },
-    OptDef {
-        long: "device",
-        value: "NAME|PATH",
-        help: "display calibration: a preset name or a visual.json",
-        check: |_| Err(PLANNED.into()),
-        launcher_only: false,
-    },
-    OptDef {
-        long: "preset",
-        value: "NAME|PATH",
-        help: "application preset (TOML)",
-        check: |_| Err(PLANNED.into()),
-        launcher_only: false,
-    },
-    OptDef {
-        long: "mode",
-        value: "exact|synth|hybrid:K|auto",
-        help: "how views are made",
-        check: |v| {
-            super::parse::mode(v)?;
-            Err(PLANNED.into())
-        },
-        launcher_only: false,
-    },
-    OptDef {
-        long: "output",
-        value: "native|quilt|sbs|anaglyph|mono",
-        help: "what is presented at swap (default mono)",
-        check: super::parse::output,
-        launcher_only: false,
-    },
-    OptDef {
-        long: "depthiness",
-        value: "S",
-        help: "disparity at infinity (NDC) between centre and outermost view",
-        check: |v| {
-            super::parse::finite(v)?;
-            Err(PLANNED.into())
-        },
-        launcher_only: false,
-    },
-    OptDef {
-        long: "convergence",
-        value: "auto|C",
-        help: "eye-space distance of the zero-parallax plane",
-        check: |v| {
-            if v != "auto" {
-                super::parse::positive(v)?;
-            }
-            Err(PLANNED.into())
-        },
-        launcher_only: false,
-    },
-    OptDef {
-        long: "focus",
-        value: "F",
-        help: "post-hoc zero-parallax shift (NDC)",
-        check: |v| {
-            super::parse::finite(v)?;
-            Err(PLANNED.into())
-        },
-        launcher_only: false,
-    },
-    OptDef {
-        long: "dump",
-        value: "DIR",
-        help: "write presented frames as PNG into DIR",
-        check: super::parse::nonempty,
-        launcher_only: false,
-    },
-    OptDef {
-        long: "dump-frames",
-        value: "LIST|every:N",
-        help: "frames to dump, e.g. 1,10,30 or every:10 (default: every frame)",
-        check: |v| super::parse::frames(v).map(|_| ()),
-        launcher_only: false,
-    },
-    OptDef {
-        long: "exit-after",
-        value: "N",
-        help: "exit the program (status 0) right after frame N is presented and dumped",
-        check: |v| super::parse::frame_number(v).map(|_| ()),
-        launcher_only: false,
-    },
-    OptDef {
-        long: "osmesa-boundary",
-        value: "finish|flush",
-        help: "call that ends a frame for OSMesa contexts, which never swap (default finish)",
-        check: |v| super::parse::boundary(v).map(|_| ()),
-        launcher_only: false,
-    },
-    OptDef {
-        long: "log",
-        value: "LEVEL",
-        help: "stderr log level: off|error|warn|info|debug|trace (default warn)",
-        check: |v| {
-            crate::log::Level::parse(v)
-                .map(|_| ())
-                .ok_or_else(|| "expected off|error|warn|info|debug|trace".into())
-        },
-        launcher_only: false,
-    },
-    OptDef {
-        long: "dry-run",
-        value: "",
-        help: "print the environment and command instead of running it",
-        check: |_| Ok(()),
-        launcher_only: true,
-    },
+    opt("quilt", "CxR", "quilt columns x rows (views = C*R); default the device's, else 8x6",
+        |v| super::parse::grid(v).map(|_| ())),
+    opt("tile", "WxH", "one view's tile in pixels; default the device's, else the window's (quilt capped at 8192 px)",
+        |v| super::parse::grid(v).map(|_| ())),
+    opt("device", "NAME|PATH", "display calibration: a preset name or a visual.json", |_| Err(PLANNED.into())),
+    opt("preset", "NAME|PATH", "application preset (TOML)", |_| Err(PLANNED.into())),
+    opt("mode", "exact|synth|hybrid:K|auto", "how views are made: exact re-renders every view (default)", super::parse::mode),
+    opt("output", "native|quilt|sbs|anaglyph|mono", "what is presented at swap (default: native with --device, else quilt)",
+        |v| super::parse::output(v).map(|_| ())),
+    opt("depthiness", "S", "disparity at infinity (NDC) between centre and outermost view; default 4 px between neighbours",
+        |v| super::parse::finite(v).map(|_| ())),
+    opt("convergence", "auto|C", "eye-space distance (w units) of the zero-parallax plane; auto follows the scene (default)",
+        |v| super::parse::convergence(v).map(|_| ())),
+    opt("focus", "F", "post-hoc zero-parallax shift (NDC) between centre and outermost view", |v| super::parse::finite(v).map(|_| ())),
+    opt("dump", "DIR", "write presented frames (and quilts) as PNG into DIR", super::parse::nonempty),
+    opt("dump-frames", "LIST|every:N", "frames to dump, e.g. 1,10,30 or every:10 (default: every frame)",
+        |v| super::parse::frames(v).map(|_| ())),
+    opt("exit-after", "N", "exit the program (status 0) right after frame N is presented and dumped",
+        |v| super::parse::frame_number(v).map(|_| ())),
+    opt("osmesa-boundary", "finish|flush", "call that ends a frame for OSMesa contexts, which never swap (default finish)",
+        |v| super::parse::boundary(v).map(|_| ())),
+    opt("log", "LEVEL", "stderr log level: off|error|warn|info|debug|trace (default warn)",
+        |v| crate::log::Level::parse(v).map(|_| ()).ok_or_else(|| "expected off|error|warn|info|debug|trace".into())),
+    OptDef { long: "dry-run", value: "", help: "print the environment and command instead of running it", check: |_| Ok(()), launcher_only: true },
 ];
 
 pub fn find(long: &str) -> Option<&'static OptDef> {

@@ -1,6 +1,6 @@
 //! Value syntax shared by the launcher (flags) and the layer (environment).
 
-use super::{Boundary, FrameSet};
+use super::{Boundary, Convergence, FrameSet, Output};
 
 pub fn grid(v: &str) -> Result<(u32, u32), String> {
     let (a, b) = v
@@ -21,23 +21,31 @@ pub fn grid(v: &str) -> Result<(u32, u32), String> {
 }
 
 pub fn mode(v: &str) -> Result<(), String> {
-    match v {
-        "exact" | "synth" | "auto" => Ok(()),
-        _ => match v.strip_prefix("hybrid:").map(str::parse::<u32>) {
-            Some(Ok(k)) if k >= 1 => Ok(()),
-            _ => Err(format!("`{v}`: expected exact|synth|hybrid:K|auto")),
-        },
+    let known = match v {
+        "exact" | "auto" => return Ok(()),
+        "synth" => true,
+        _ => matches!(v.strip_prefix("hybrid:").map(str::parse::<u32>), Some(Ok(k)) if k >= 1),
+    };
+    if known {
+        Err(format!("`{v}`: view synthesis is not available in this build yet; use exact"))
+    } else {
+        Err(format!("`{v}`: expected exact|synth|hybrid:K|auto"))
     }
 }
 
-pub fn output(v: &str) -> Result<(), String> {
+pub fn output(v: &str) -> Result<Output, String> {
     match v {
-        "mono" => Ok(()),
-        "native" | "quilt" | "sbs" | "anaglyph" => Err(format!(
-            "`{v}`: multiview output is not available in this build yet; only `mono` (pass-through) works"
-        )),
+        "mono" => Ok(Output::Mono),
+        "quilt" => Ok(Output::Quilt),
+        "sbs" => Ok(Output::SideBySide),
+        "anaglyph" => Ok(Output::Anaglyph),
+        "native" => Ok(Output::Native),
         _ => Err(format!("`{v}`: expected native|quilt|sbs|anaglyph|mono")),
     }
+}
+
+pub fn convergence(v: &str) -> Result<Convergence, String> {
+    if v.trim() == "auto" { Ok(Convergence::Auto) } else { positive(v).map(Convergence::Fixed) }
 }
 
 pub fn finite(v: &str) -> Result<f64, String> {
@@ -115,8 +123,9 @@ mod tests {
 
     #[test]
     fn modes() {
-        assert!(mode("hybrid:3").is_ok());
-        assert!(mode("hybrid:0").is_err());
+        assert!(mode("exact").is_ok());
+        assert!(mode("hybrid:3").unwrap_err().contains("not available"));
+        assert!(mode("hybrid:0").unwrap_err().contains("expected"));
         assert!(mode("fast").is_err());
     }
 }

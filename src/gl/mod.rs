@@ -16,6 +16,7 @@ mod bindings {
     include!(concat!(env!("OUT_DIR"), "/gl_bindings.rs"));
 }
 pub use bindings::*;
+pub use bindings::types::GLenum;
 
 /// GLX bindings; `glx::types` holds the X11/GLX types (and the GL ones again).
 #[allow(
@@ -31,6 +32,7 @@ pub mod glx {
 }
 
 pub mod egl;
+pub mod guard;
 pub mod readback;
 
 /// A context's GL table, shared between the threads that make the context current.

@@ -116,7 +116,7 @@ impl Drop for PixelStateGuard<'_> {
                     gl.BindFramebuffer(FRAMEBUFFER, self.read_fbo as u32);
                 }
             }
-            if has_read_buffer(info) && self.read_fbo == 0 {
+            if has_read_buffer(info) {
                 gl.ReadBuffer(self.read_buffer as u32);
             }
             if has_pack_buffer(info) {
@@ -149,27 +149,50 @@ fn presented_buffer(gl: &Gl, info: GlInfo) -> Option<GLenum> {
     })
 }
 
+/// Where a read comes from.
+#[derive(Clone, Copy, Debug)]
+pub enum Source {
+    /// The real default framebuffer, the buffer the app presents.
+    Presented,
+    /// Colour attachment 0 of one of our framebuffers.
+    Fbo(u32),
+}
+
 /// RGBA8 rows, bottom-up, of the buffer the app is about to present.
 pub fn read_presented(gl: &Gl, info: GlInfo, w: u32, h: u32) -> Result<Vec<u8>, String> {
+    read_rgba(gl, info, Source::Presented, [0, 0, w as i32, h as i32])
+}
+
+/// RGBA8 rows, bottom-up, of `rect` (x, y, w, h) of `source`, all read state restored.
+pub fn read_rgba(gl: &Gl, info: GlInfo, source: Source, rect: [i32; 4]) -> Result<Vec<u8>, String> {
     use super::*;
     if !gl.ReadPixels.is_loaded() {
         return Err("glReadPixels is not available".into());
     }
-    let mut pixels = vec![0u8; w as usize * h as usize * 4];
+    let mut pixels = vec![0u8; rect[2].max(0) as usize * rect[3].max(0) as usize * 4];
     let guard = PixelStateGuard::save(gl, info);
+    let mut default_read = None;
     // SAFETY: the buffer holds w*h RGBA8 pixels with alignment 1 and no row length/skips, and
     // no pack buffer is bound, so ReadPixels writes exactly into it.
     unsafe {
+        let fbo = match source {
+            Source::Presented => 0,
+            Source::Fbo(f) => f,
+        };
         if has_fbo(info) {
-            let target = if info.es && !info.at_least(3, 0) {
-                FRAMEBUFFER
-            } else {
-                READ_FRAMEBUFFER
-            };
-            gl.BindFramebuffer(target, 0);
+            let target = if info.es && !info.at_least(3, 0) { FRAMEBUFFER } else { READ_FRAMEBUFFER };
+            gl.BindFramebuffer(target, fbo);
         }
-        if let Some(buffer) = presented_buffer(gl, info) {
-            gl.ReadBuffer(buffer);
+        match source {
+            Source::Presented => {
+                if let Some(buffer) = presented_buffer(gl, info) {
+                    // Framebuffer 0's own read buffer is app state too: put it back below.
+                    default_read = Some(get(gl, READ_BUFFER) as u32);
+                    gl.ReadBuffer(buffer);
+                }
+            }
+            Source::Fbo(_) if has_read_buffer(info) => gl.ReadBuffer(COLOR_ATTACHMENT0),
+            Source::Fbo(_) => {}
         }
         if has_pack_buffer(info) {
             gl.BindBuffer(PIXEL_PACK_BUFFER, 0);
@@ -177,16 +200,31 @@ pub fn read_presented(gl: &Gl, info: GlInfo, w: u32, h: u32) -> Result<Vec<u8>, 
         for &(p, _) in &guard.pack {
             gl.PixelStorei(p, if p == PACK_ALIGNMENT { 1 } else { 0 });
         }
-        gl.ReadPixels(
-            0,
-            0,
-            w as i32,
-            h as i32,
-            RGBA,
-            UNSIGNED_BYTE,
-            pixels.as_mut_ptr().cast(),
-        );
+        gl.ReadPixels(rect[0], rect[1], rect[2], rect[3], RGBA, UNSIGNED_BYTE, pixels.as_mut_ptr().cast());
+        if let Some(b) = default_read {
+            gl.ReadBuffer(b);
+        }
     }
     drop(guard);
     Ok(pixels)
+}
+
+/// Window depth values (0..1) of `rect` of framebuffer `fbo`, read state restored.
+pub fn read_depth(gl: &Gl, info: GlInfo, fbo: u32, rect: [i32; 4]) -> Vec<f32> {
+    use super::*;
+    let mut depth = vec![0f32; rect[2].max(0) as usize * rect[3].max(0) as usize];
+    let guard = PixelStateGuard::save(gl, info);
+    // SAFETY: as in `read_rgba`, with one float per pixel.
+    unsafe {
+        gl.BindFramebuffer(READ_FRAMEBUFFER, fbo);
+        if has_pack_buffer(info) {
+            gl.BindBuffer(PIXEL_PACK_BUFFER, 0);
+        }
+        for &(p, _) in &guard.pack {
+            gl.PixelStorei(p, if p == PACK_ALIGNMENT { 4 } else { 0 });
+        }
+        gl.ReadPixels(rect[0], rect[1], rect[2], rect[3], DEPTH_COMPONENT, FLOAT, depth.as_mut_ptr().cast());
+    }
+    drop(guard);
+    depth
 }

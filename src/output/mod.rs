@@ -2,9 +2,12 @@
 //! Frames are numbered from 1 per process. Today: dump what is presented, then present, then
 //! honour `--exit-after`. The quilt composition and lenticular weave will hook in here.
 
+pub mod compose;
 mod dump;
 pub mod png;
 mod surface;
+
+pub use surface::size as surface_size;
 
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
@@ -21,6 +24,9 @@ pub fn frames_presented() -> u64 {
 pub fn frame_boundary(surface: usize, present: impl FnOnce()) {
     let frame = FRAME.fetch_add(1, Ordering::Relaxed) + 1;
     let settings = crate::config::settings();
+    if settings.multiview() {
+        multiview_frame(frame, surface, settings);
+    }
     if settings.dumps(frame) {
         if let Err(e) = dump::presented(frame, surface, settings) {
             crate::log::once(
@@ -36,6 +42,28 @@ pub fn frame_boundary(surface: usize, present: impl FnOnce()) {
     }
 }
 
+static COMPOSE_FAILED: AtomicBool = AtomicBool::new(false);
+
+/// Quilt dump, composition into the window, auto-convergence and resizing for the next frame.
+fn multiview_frame(frame: u64, surface: usize, settings: &crate::config::Settings) {
+    crate::multiview::with_active(|cur, mv, gl| {
+        if cur.binding.draw != surface || mv.target.is_none() {
+            return;
+        }
+        let Some(window) = surface::size(cur) else { return };
+        if settings.dumps(frame) {
+            if let Err(e) = dump::quilt(frame, gl, mv, settings) {
+                crate::log::once(&DUMP_FAILED, crate::log::Level::Error, format_args!("quilt of frame {frame} not dumped: {e}"));
+            }
+        }
+        if let Err(e) = compose::present(gl, mv, window, settings.view.output) {
+            crate::log::once(&COMPOSE_FAILED, crate::log::Level::Error, format_args!("{e}"));
+        }
+        crate::multiview::update_convergence(gl, mv);
+        crate::multiview::framebuffer::ensure_target(gl, mv, window);
+    });
+}
+
 fn exit_after(frame: u64) -> ! {
     crate::log::info(format_args!(
         "exit-after: frame {frame} presented; exiting with status 0"
@@ -48,3 +76,6 @@ fn exit_after(frame: u64) -> ! {
         libc::_exit(0)
     }
 }
+
+pub mod calibration;
+pub mod weave;

@@ -4,7 +4,8 @@
 use crate::gl::{Gl, SharedGl};
 use crate::hook::{HOOK_COUNT, HOOKS, id, real};
 use core::ffi::{CStr, c_void};
-use std::sync::OnceLock;
+use super::ShareGroup;
+use std::sync::{Arc, Mutex, MutexGuard, OnceLock};
 use std::sync::atomic::{AtomicPtr, Ordering};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -55,13 +56,15 @@ pub struct Context {
     pub platform: Platform,
     pub handle: usize,
     pub display: usize,
-    pub share_group: u64,
+    pub group: Arc<ShareGroup>,
+    /// Multiview state (None until the context is first made current with multiview on).
+    pub mv: Mutex<Option<crate::multiview::Multiview>>,
     gl: OnceLock<Option<(SharedGl, GlInfo)>>,
     real: Box<[AtomicPtr<c_void>]>,
 }
 
 impl Context {
-    pub fn new(platform: Platform, handle: usize, display: usize, share_group: u64) -> Context {
+    pub fn new(platform: Platform, handle: usize, display: usize, group: Arc<ShareGroup>) -> Context {
         let real = (0..HOOK_COUNT)
             .map(|_| AtomicPtr::new(core::ptr::null_mut()))
             .collect();
@@ -69,10 +72,15 @@ impl Context {
             platform,
             handle,
             display,
-            share_group,
+            group,
+            mv: Mutex::new(None),
             gl: OnceLock::new(),
             real,
         }
+    }
+
+    pub fn mv(&self) -> MutexGuard<'_, Option<crate::multiview::Multiview>> {
+        self.mv.lock().unwrap_or_else(|e| e.into_inner())
     }
 
     fn loader(&self) -> *const c_void {

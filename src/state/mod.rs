@@ -7,8 +7,10 @@
 //! own.
 
 mod context;
+pub mod share;
 
 pub use context::{Binding, Context, GlInfo, Platform};
+pub use share::ShareGroup;
 use std::cell::RefCell;
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -39,14 +41,17 @@ pub fn context_created(platform: Platform, handle: usize, display: usize, share:
     let mut reg = registry();
     let map = reg.get_or_insert_with(HashMap::new);
     let group = match map.get(&(platform, share)) {
-        Some(shared) if share != 0 => shared.share_group,
-        _ => NEXT_GROUP.fetch_add(1, Ordering::Relaxed),
+        Some(shared) if share != 0 => shared.group.clone(),
+        _ => new_group(),
     };
+    let id = group.id;
     let ctx = Arc::new(Context::new(platform, handle, display, group));
-    crate::log::info(format_args!(
-        "{platform:?} context {handle:#x} created (share group {group})"
-    ));
+    crate::log::info(format_args!("{platform:?} context {handle:#x} created (share group {id})"));
     map.insert((platform, handle), ctx);
+}
+
+fn new_group() -> Arc<ShareGroup> {
+    Arc::new(ShareGroup::new(NEXT_GROUP.fetch_add(1, Ordering::Relaxed)))
 }
 
 fn lookup_or_adopt(platform: Platform, handle: usize, display: usize) -> Arc<Context> {
@@ -54,7 +59,7 @@ fn lookup_or_adopt(platform: Platform, handle: usize, display: usize) -> Arc<Con
     let map = reg.get_or_insert_with(HashMap::new);
     map.entry((platform, handle))
         .or_insert_with(|| {
-            let group = NEXT_GROUP.fetch_add(1, Ordering::Relaxed);
+            let group = new_group();
             crate::log::info(format_args!(
                 "{platform:?} context {handle:#x} adopted at make-current"
             ));
@@ -72,7 +77,9 @@ pub fn make_current(platform: Platform, handle: usize, binding: Binding) {
     crate::log::announce();
     let ctx = lookup_or_adopt(platform, handle, binding.display);
     ctx.on_made_current();
-    CURRENT.with(|c| *c.borrow_mut() = Some(Current { ctx, binding }));
+    let cur = Current { ctx, binding };
+    crate::multiview::on_make_current(&cur);
+    CURRENT.with(|c| *c.borrow_mut() = Some(cur));
 }
 
 pub fn context_destroyed(platform: Platform, handle: usize) {
@@ -92,6 +99,11 @@ pub fn display_terminated(platform: Platform, display: usize) {
 /// The calling thread's current context and binding, if any.
 pub fn current() -> Option<Current> {
     CURRENT.with(|c| c.borrow().clone())
+}
+
+/// Runs `f` with the calling thread's current context without cloning it (the per-draw path).
+pub fn with_current<R>(f: impl FnOnce(Option<&Current>) -> R) -> R {
+    CURRENT.with(|c| f(c.borrow().as_ref()))
 }
 
 /// Real GL entry point `id` as loaded for the current context.

@@ -1,5 +1,5 @@
-//! GL entry points. `glFinish`/`glFlush` end a frame only for contexts that never swap
-//! (OSMesa), as chosen by `HOLOINJECT_OSMESA_BOUNDARY` (default `finish`).
+//! `glFinish`/`glFlush` end a frame only for contexts that never swap (OSMesa), as chosen by
+//! `HOLOINJECT_OSMESA_BOUNDARY` (default `finish`).
 
 use crate::config::Boundary;
 

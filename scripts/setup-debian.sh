@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# Installs what building, the demo and the tests need on Debian 12 (bookworm): Mesa (GLX, EGL,
+# OSMesa; llvmpipe renders without a GPU), Xvfb, the real GL programs the tests run
+# (mesa-utils, glmark2), apitrace (deterministic replays) and hyperfine (benchmarks).
+set -euo pipefail
+
+packages=(
+  xvfb xauth
+  libgl1-mesa-dri libglx-mesa0 libegl-mesa0 libgl-dev libegl-dev libgles-dev libx11-dev libosmesa6-dev
+  mesa-utils mesa-utils-bin glmark2-x11 glmark2-es2-x11
+  apitrace apitrace-tracers
+  hyperfine python3-numpy python3-matplotlib
+)
+
+sudo=""
+if [ "$(id -u)" -ne 0 ]; then
+  command -v sudo >/dev/null || { echo "setup: need root or sudo to install packages" >&2; exit 1; }
+  sudo="sudo"
+fi
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "setup: installing ${missing[*]}" >&2
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+if ! command -v cargo >/dev/null; then
+  echo "setup: Rust is missing: install it with rustup (https://rustup.rs); Debian's cargo is too old for edition 2024" >&2
+  exit 1
+fi
+echo "setup: ok ($(cargo --version))" >&2

@@ -1,0 +1,8 @@
+#!/usr/bin/env bash
+# Builds everything (layer, launcher, sample apps) and runs every test headless: unit tests,
+# launcher tests, sample apps on GLX (Xvfb), EGL and OSMesa, and real Debian programs.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+export ALSOFT_DRIVERS=null
+cargo build --workspace --release --locked
+xvfb-run -a -s "-screen 0 1280x1024x24" cargo test --workspace --release --locked -- --test-threads=2

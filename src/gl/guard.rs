@@ -1,0 +1,158 @@
+//! Save-and-restore of the GL state the layer touches behind the app's back.
+//!
+//! A [`StateGuard`] records each piece of state as it is asked for and puts everything back,
+//! in reverse order, when dropped. Only state that exists in the context's version is
+//! queried, so the guard itself never raises a GL error the app could later observe.
+
+use super::*;
+use crate::state::GlInfo;
+
+enum Saved {
+    Framebuffers { draw: u32, read: u32 },
+    Viewport([i32; 4]),
+    Scissor([i32; 4]),
+    Cap(GLenum, bool),
+    Program(u32),
+    VertexArray(u32),
+    ActiveTexture(u32),
+    Texture2d(u32),
+    Sampler0(u32),
+    Renderbuffer(u32),
+    ColorMask([u8; 4]),
+    DepthMask(u8),
+    PolygonMode(i32),
+    MatrixMode(i32),
+}
+
+pub struct StateGuard<'a> {
+    gl: &'a Gl,
+    pub info: GlInfo,
+    saved: Vec<Saved>,
+}
+
+pub fn get_i(gl: &Gl, pname: GLenum) -> i32 {
+    let mut v = 0;
+    // SAFETY: single-value query into a local.
+    unsafe { gl.GetIntegerv(pname, &mut v) };
+    v
+}
+
+pub fn get_i4(gl: &Gl, pname: GLenum) -> [i32; 4] {
+    let mut v = [0; 4];
+    // SAFETY: four-value query into a local array.
+    unsafe { gl.GetIntegerv(pname, v.as_mut_ptr()) };
+    v
+}
+
+impl<'a> StateGuard<'a> {
+    pub fn new(gl: &'a Gl, info: GlInfo) -> Self {
+        StateGuard { gl, info, saved: Vec::with_capacity(16) }
+    }
+
+    pub fn core_like(&self) -> bool {
+        self.info.es || self.info.at_least(3, 0)
+    }
+
+    pub fn framebuffers(mut self) -> Self {
+        let (draw, read) = (get_i(self.gl, DRAW_FRAMEBUFFER_BINDING) as u32, get_i(self.gl, READ_FRAMEBUFFER_BINDING) as u32);
+        self.saved.push(Saved::Framebuffers { draw, read });
+        self
+    }
+
+    pub fn viewport(mut self) -> Self {
+        self.saved.push(Saved::Viewport(get_i4(self.gl, VIEWPORT)));
+        self
+    }
+
+    pub fn scissor(mut self) -> Self {
+        self.saved.push(Saved::Scissor(get_i4(self.gl, SCISSOR_BOX)));
+        self.caps(&[SCISSOR_TEST])
+    }
+
+    pub fn caps(mut self, caps: &[GLenum]) -> Self {
+        for &cap in caps {
+            // SAFETY: querying an enable flag valid in this context.
+            let on = unsafe { self.gl.IsEnabled(cap) } != 0;
+            self.saved.push(Saved::Cap(cap, on));
+        }
+        self
+    }
+
+    /// Everything a full-screen pass of ours changes: program, vertex array, texture unit 0,
+    /// sampler, renderbuffer, masks and the fixed-function toggles that would alter it.
+    pub fn for_pass(mut self) -> Self {
+        let gl = self.gl;
+        self.saved.push(Saved::Program(get_i(gl, CURRENT_PROGRAM) as u32));
+        if self.core_like() {
+            self.saved.push(Saved::VertexArray(get_i(gl, VERTEX_ARRAY_BINDING) as u32));
+        }
+        self.saved.push(Saved::ActiveTexture(get_i(gl, ACTIVE_TEXTURE) as u32));
+        // SAFETY: selecting unit 0 so its bindings can be read; restored by the guard.
+        unsafe { gl.ActiveTexture(TEXTURE0) };
+        self.saved.push(Saved::Texture2d(get_i(gl, TEXTURE_BINDING_2D) as u32));
+        if self.info.es && self.info.at_least(3, 0) || !self.info.es && self.info.at_least(3, 3) {
+            self.saved.push(Saved::Sampler0(get_i(gl, SAMPLER_BINDING) as u32));
+        }
+        self.saved.push(Saved::Renderbuffer(get_i(gl, RENDERBUFFER_BINDING) as u32));
+        let mut mask = [0u8; 4];
+        // SAFETY: four-boolean query into a local array.
+        unsafe { gl.GetBooleanv(COLOR_WRITEMASK, mask.as_mut_ptr()) };
+        self.saved.push(Saved::ColorMask(mask));
+        let mut depth = 0u8;
+        unsafe { gl.GetBooleanv(DEPTH_WRITEMASK, &mut depth) };
+        self.saved.push(Saved::DepthMask(depth));
+        if !self.info.es {
+            let mut modes = [0i32; 2];
+            unsafe { gl.GetIntegerv(POLYGON_MODE, modes.as_mut_ptr()) };
+            self.saved.push(Saved::PolygonMode(modes[0]));
+        }
+        let mut caps = vec![BLEND, DEPTH_TEST, STENCIL_TEST, CULL_FACE, DITHER, SCISSOR_TEST];
+        if self.core_like() {
+            caps.push(RASTERIZER_DISCARD);
+        }
+        if !self.info.es {
+            caps.extend([FRAMEBUFFER_SRGB, COLOR_LOGIC_OP, MULTISAMPLE]);
+        }
+        self.caps(&caps).viewport()
+    }
+
+    pub fn matrix_mode(mut self) -> Self {
+        self.saved.push(Saved::MatrixMode(get_i(self.gl, MATRIX_MODE)));
+        self
+    }
+
+    fn restore(&self, s: &Saved) {
+        let gl = self.gl;
+        // SAFETY: every value restored was read from this same current context.
+        unsafe {
+            match *s {
+                Saved::Framebuffers { draw, read } => {
+                    gl.BindFramebuffer(DRAW_FRAMEBUFFER, draw);
+                    gl.BindFramebuffer(READ_FRAMEBUFFER, read);
+                }
+                Saved::Viewport(v) => gl.Viewport(v[0], v[1], v[2], v[3]),
+                Saved::Scissor(v) => gl.Scissor(v[0], v[1], v[2], v[3]),
+                Saved::Cap(cap, true) => gl.Enable(cap),
+                Saved::Cap(cap, false) => gl.Disable(cap),
+                Saved::Program(p) => gl.UseProgram(p),
+                Saved::VertexArray(v) => gl.BindVertexArray(v),
+                Saved::ActiveTexture(t) => gl.ActiveTexture(t),
+                Saved::Texture2d(t) => gl.BindTexture(TEXTURE_2D, t),
+                Saved::Sampler0(s) => gl.BindSampler(0, s),
+                Saved::Renderbuffer(r) => gl.BindRenderbuffer(RENDERBUFFER, r),
+                Saved::ColorMask(m) => gl.ColorMask(m[0], m[1], m[2], m[3]),
+                Saved::DepthMask(d) => gl.DepthMask(d),
+                Saved::PolygonMode(m) => gl.PolygonMode(FRONT_AND_BACK, m as u32),
+                Saved::MatrixMode(m) => gl.MatrixMode(m as u32),
+            }
+        }
+    }
+}
+
+impl Drop for StateGuard<'_> {
+    fn drop(&mut self) {
+        for s in self.saved.iter().rev() {
+            self.restore(s);
+        }
+    }
+}

@@ -1,0 +1,168 @@
+//! Framebuffer 0 as the app sees it (see `multiview::framebuffer`): bindings and buffer
+//! selection are translated to the quilt, viewport/scissor are recorded for per-view mapping,
+//! clears, reads and blits address the right tiles.
+
+use crate::gl::types::*;
+use crate::multiview::{framebuffer as fb, with_active};
+use core::ffi::c_void;
+
+pub fn glBindFramebuffer(real: impl Fn(GLenum, GLuint), target: GLenum, fbo: GLuint) {
+    let mapped = with_active(|_, mv, _| fb::bind(mv, target, fbo));
+    real(target, mapped.unwrap_or(fbo))
+}
+
+pub fn glBindFramebufferEXT(real: impl Fn(GLenum, GLuint), target: GLenum, fbo: GLuint) {
+    glBindFramebuffer(real, target, fbo)
+}
+
+/// The app's buffer choice for framebuffer 0 is remembered and answered back; GL gets the
+/// quilt's attachment instead (GL_BACK is invalid on a framebuffer object).
+pub fn glDrawBuffer(real: impl Fn(GLenum), buf: GLenum) {
+    let mapped = with_active(|_, mv, _| {
+        (mv.quilt_fbo().is_some() && mv.app.draw_fbo == 0).then(|| {
+            mv.app.draw_buffer = buf;
+            fb::map_buffer(buf)
+        })
+    });
+    real(mapped.flatten().unwrap_or(buf))
+}
+
+pub fn glReadBuffer(real: impl Fn(GLenum), buf: GLenum) {
+    let mapped = with_active(|_, mv, _| {
+        (mv.quilt_fbo().is_some() && mv.app.read_fbo == 0).then(|| {
+            mv.app.read_buffer = buf;
+            fb::map_buffer(buf)
+        })
+    });
+    real(mapped.flatten().unwrap_or(buf))
+}
+
+pub fn glDrawBuffers(real: impl Fn(GLsizei, *const GLenum), n: GLsizei, bufs: *const GLenum) {
+    let on_fb0 = with_active(|_, mv, _| mv.quilt_fbo().is_some() && mv.app.draw_fbo == 0).unwrap_or(false);
+    if !on_fb0 || bufs.is_null() || n <= 0 {
+        return real(n, bufs);
+    }
+    // SAFETY: the app passes `n` buffer names.
+    let app: Vec<GLenum> = unsafe { std::slice::from_raw_parts(bufs, n as usize) }.to_vec();
+    with_active(|_, mv, _| mv.app.draw_buffer = app[0]);
+    let mapped: Vec<GLenum> = app.iter().map(|&b| fb::map_buffer(b)).collect();
+    real(n, mapped.as_ptr())
+}
+
+pub fn glViewport(real: impl Fn(GLint, GLint, GLsizei, GLsizei), x: GLint, y: GLint, w: GLsizei, h: GLsizei) {
+    with_active(|_, mv, _| mv.app.viewport = [x, y, w, h]);
+    real(x, y, w, h)
+}
+
+pub fn glScissor(real: impl Fn(GLint, GLint, GLsizei, GLsizei), x: GLint, y: GLint, w: GLsizei, h: GLsizei) {
+    with_active(|_, mv, _| mv.app.scissor = [x, y, w, h]);
+    real(x, y, w, h)
+}
+
+fn clear_tiles(f: impl Fn()) {
+    if with_active(|_, mv, gl| fb::clear(gl, mv, &f)).is_none() {
+        f()
+    }
+}
+
+pub fn glClear(real: impl Fn(GLbitfield), mask: GLbitfield) {
+    clear_tiles(|| real(mask))
+}
+
+pub fn glClearBufferfv(real: impl Fn(GLenum, GLint, *const GLfloat), buffer: GLenum, i: GLint, v: *const GLfloat) {
+    clear_tiles(|| real(buffer, i, v))
+}
+
+pub fn glClearBufferiv(real: impl Fn(GLenum, GLint, *const GLint), buffer: GLenum, i: GLint, v: *const GLint) {
+    clear_tiles(|| real(buffer, i, v))
+}
+
+pub fn glClearBufferuiv(real: impl Fn(GLenum, GLint, *const GLuint), buffer: GLenum, i: GLint, v: *const GLuint) {
+    clear_tiles(|| real(buffer, i, v))
+}
+
+pub fn glClearBufferfi(real: impl Fn(GLenum, GLint, GLfloat, GLint), buffer: GLenum, i: GLint, d: GLfloat, s: GLint) {
+    clear_tiles(|| real(buffer, i, d, s))
+}
+
+/// Reads from framebuffer 0 see the centre view at the app's resolution.
+pub fn glReadPixels(
+    real: impl Fn(GLint, GLint, GLsizei, GLsizei, GLenum, GLenum, *mut c_void),
+    x: GLint,
+    y: GLint,
+    w: GLsizei,
+    h: GLsizei,
+    format: GLenum,
+    ty: GLenum,
+    data: *mut c_void,
+) {
+    let rect = with_active(|_, mv, _| fb::centre_rect(mv, [x, y, w, h])).flatten();
+    match rect {
+        Some(r) => real(r[0], r[1], w, h, format, ty, data),
+        None => real(x, y, w, h, format, ty, data),
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+pub fn glCopyTexSubImage2D(
+    real: impl Fn(GLenum, GLint, GLint, GLint, GLint, GLint, GLsizei, GLsizei),
+    target: GLenum,
+    level: GLint,
+    xoff: GLint,
+    yoff: GLint,
+    x: GLint,
+    y: GLint,
+    w: GLsizei,
+    h: GLsizei,
+) {
+    let r = with_active(|_, mv, _| fb::centre_rect(mv, [x, y, w, h])).flatten().unwrap_or([x, y, w, h]);
+    real(target, level, xoff, yoff, r[0], r[1], w, h)
+}
+
+#[allow(clippy::too_many_arguments)]
+pub fn glCopyTexImage2D(
+    real: impl Fn(GLenum, GLint, GLenum, GLint, GLint, GLsizei, GLsizei, GLint),
+    target: GLenum,
+    level: GLint,
+    format: GLenum,
+    x: GLint,
+    y: GLint,
+    w: GLsizei,
+    h: GLsizei,
+    border: GLint,
+) {
+    let r = with_active(|_, mv, _| fb::centre_rect(mv, [x, y, w, h])).flatten().unwrap_or([x, y, w, h]);
+    real(target, level, format, r[0], r[1], w, h, border)
+}
+
+#[allow(clippy::too_many_arguments)]
+pub fn glBlitFramebuffer(
+    real: impl Fn(GLint, GLint, GLint, GLint, GLint, GLint, GLint, GLint, GLbitfield, GLenum),
+    sx0: GLint,
+    sy0: GLint,
+    sx1: GLint,
+    sy1: GLint,
+    dx0: GLint,
+    dy0: GLint,
+    dx1: GLint,
+    dy1: GLint,
+    mask: GLbitfield,
+    filter: GLenum,
+) {
+    let f = |s: [i32; 4], d: [i32; 4]| real(s[0], s[1], s[2], s[3], d[0], d[1], d[2], d[3], mask, filter);
+    if with_active(|_, mv, _| fb::blit(mv, [sx0, sy0, sx1, sy1], [dx0, dy0, dx1, dy1], f)).is_none() {
+        f([sx0, sy0, sx1, sy1], [dx0, dy0, dx1, dy1])
+    }
+}
+
+/// Invalidation is only a hint; framebuffer 0's attachment names are invalid on our quilt,
+/// so the hint is dropped while the quilt stands in for it.
+pub fn glInvalidateFramebuffer(real: impl Fn(GLenum, GLsizei, *const GLenum), target: GLenum, n: GLsizei, atts: *const GLenum) {
+    let on_fb0 = with_active(|_, mv, _| {
+        let app = if target == crate::gl::READ_FRAMEBUFFER { mv.app.read_fbo } else { mv.app.draw_fbo };
+        mv.quilt_fbo().is_some() && app == 0
+    });
+    if on_fb0 != Some(true) {
+        real(target, n, atts)
+    }
+}

@@ -1,0 +1,28 @@
+//! GL entry points, grouped by what the layer does with them.
+
+mod draw;
+mod frame;
+mod framebuffer;
+mod immediate;
+mod program;
+mod query;
+
+pub use draw::*;
+pub use frame::*;
+pub use framebuffer::*;
+pub use immediate::*;
+pub use program::*;
+pub use query::*;
+
+/// Replays `f` once per view when multiview applies to the current draw, else calls it once.
+fn per_view(f: impl Fn()) {
+    let done = crate::multiview::with_active(|cur, mv, gl| crate::multiview::replay::draw(gl, mv, &cur.ctx.group, &f));
+    if done.is_none() {
+        f()
+    }
+}
+
+/// `per_view` for replays that issue GL calls of their own.
+fn per_view_gl(f: impl Fn(&crate::gl::Gl)) {
+    crate::multiview::with_active(|cur, mv, gl| crate::multiview::replay::draw(gl, mv, &cur.ctx.group, || f(gl)));
+}

@@ -1,0 +1,52 @@
+//! `glGet*` answers corrected so the app never sees the layer's objects: framebuffer 0 and
+//! its buffers, the app's own shader sources, and no program-binary formats (so programs
+//! are always built from source and pass through the link-time rewrite).
+
+use crate::gl::types::*;
+use crate::multiview::{framebuffer as fb, with_active};
+
+const NUM_PROGRAM_BINARY_FORMATS: GLenum = 0x87FE;
+
+pub fn glGetIntegerv(real: impl Fn(GLenum, *mut GLint), pname: GLenum, data: *mut GLint) {
+    real(pname, data);
+    if data.is_null() || !crate::config::settings().multiview() {
+        return;
+    }
+    let fixed = if pname == NUM_PROGRAM_BINARY_FORMATS { Some(0) } else { with_active(|_, mv, _| fb::patch_get(mv, pname)).flatten() };
+    if let Some(v) = fixed {
+        // SAFETY: the app passed room for this query's answer (at least one integer).
+        unsafe { *data = v };
+    }
+}
+
+pub fn glGetShaderSource(
+    real: impl Fn(GLuint, GLsizei, *mut GLsizei, *mut GLchar),
+    shader: GLuint,
+    size: GLsizei,
+    length: *mut GLsizei,
+    source: *mut GLchar,
+) {
+    let original = crate::state::with_current(|cur| cur.and_then(|c| c.ctx.group.lock().original_sources.get(&shader).cloned()));
+    let Some(text) = original.filter(|_| size > 0 && !source.is_null()) else { return real(shader, size, length, source) };
+    let n = text.len().min(size as usize - 1);
+    // SAFETY: the app's buffer holds `size` bytes; we write n < size bytes plus a NUL.
+    unsafe {
+        std::ptr::copy_nonoverlapping(text.as_ptr(), source.cast::<u8>(), n);
+        *source.add(n) = 0;
+        if !length.is_null() {
+            *length = n as GLsizei;
+        }
+    }
+}
+
+pub fn glGetShaderiv(real: impl Fn(GLuint, GLenum, *mut GLint), shader: GLuint, pname: GLenum, params: *mut GLint) {
+    real(shader, pname, params);
+    if pname != crate::gl::SHADER_SOURCE_LENGTH || params.is_null() {
+        return;
+    }
+    let len = crate::state::with_current(|cur| cur.and_then(|c| c.ctx.group.lock().original_sources.get(&shader).map(|s| s.len() + 1)));
+    if let Some(len) = len {
+        // SAFETY: one integer answer.
+        unsafe { *params = len as GLint };
+    }
+}

@@ -1,0 +1,118 @@
+//! Framebuffer 0 as the app sees it, standing on our quilt: bindings, draw/read buffers,
+//! `glGet*` answers, clears, reads and blits.
+
+use super::Multiview;
+use super::layout::{QuiltLayout, intersect};
+use super::target::QuiltTarget;
+use crate::gl::*;
+
+/// Creates (or re-creates, when the window size changed) the quilt, and binds it wherever
+/// the app has framebuffer 0 bound.
+pub fn ensure_target(gl: &Gl, mv: &mut Multiview, window: (u32, u32)) {
+    let wanted = QuiltLayout::new(mv.settings.quilt, mv.settings.tile, window);
+    if mv.target.as_ref().is_some_and(|t| t.layout == wanted) || mv.failed {
+        return;
+    }
+    if let Some(old) = mv.target.take() {
+        old.delete(gl);
+    }
+    match QuiltTarget::create(gl, mv.info, wanted) {
+        Ok(t) => {
+            crate::log::info(format_args!(
+                "quilt {}x{} views, tiles {}x{} ({}x{} px) for a {}x{} window",
+                wanted.cols, wanted.rows, wanted.tile_w, wanted.tile_h, wanted.width(), wanted.height(), window.0, window.1
+            ));
+            mv.target = Some(t);
+            mv.update_rig(wanted);
+            rebind(gl, mv);
+        }
+        Err(e) => {
+            crate::log::error(format_args!("{e}; multiview off for this context"));
+            mv.failed = true;
+        }
+    }
+}
+
+/// Makes GL's bindings match the app's, with the quilt standing in for 0.
+pub fn rebind(gl: &Gl, mv: &Multiview) {
+    let map = |fbo: u32| if fbo == 0 { mv.quilt_fbo().unwrap_or(0) } else { fbo };
+    // SAFETY: binding framebuffers that exist (the app's or ours).
+    unsafe {
+        gl.BindFramebuffer(DRAW_FRAMEBUFFER, map(mv.app.draw_fbo));
+        gl.BindFramebuffer(READ_FRAMEBUFFER, map(mv.app.read_fbo));
+    }
+}
+
+/// `glBindFramebuffer(target, fbo)`: records the app's binding; returns the name GL gets.
+pub fn bind(mv: &mut Multiview, target: GLenum, fbo: u32) -> u32 {
+    match target {
+        DRAW_FRAMEBUFFER => mv.app.draw_fbo = fbo,
+        READ_FRAMEBUFFER => mv.app.read_fbo = fbo,
+        _ => {
+            mv.app.draw_fbo = fbo;
+            mv.app.read_fbo = fbo;
+        }
+    }
+    if fbo == 0 { mv.quilt_fbo().unwrap_or(0) } else { fbo }
+}
+
+/// Maps a default-framebuffer colour buffer name to the quilt's attachment.
+pub fn map_buffer(buffer: GLenum) -> GLenum {
+    match buffer {
+        NONE => NONE,
+        BACK | FRONT | BACK_LEFT | FRONT_LEFT | LEFT | FRONT_AND_BACK => COLOR_ATTACHMENT0,
+        other => other,
+    }
+}
+
+/// Corrects a `glGetIntegerv` answer about framebuffer 0 so the app sees its own values.
+pub fn patch_get(mv: &Multiview, pname: GLenum) -> Option<i32> {
+    mv.quilt_fbo()?;
+    Some(match pname {
+        DRAW_FRAMEBUFFER_BINDING => mv.app.draw_fbo as i32,
+        READ_FRAMEBUFFER_BINDING => mv.app.read_fbo as i32,
+        DRAW_BUFFER | DRAW_BUFFER0 if mv.app.draw_fbo == 0 => mv.app.draw_buffer as i32,
+        READ_BUFFER if mv.app.read_fbo == 0 => mv.app.read_buffer as i32,
+        _ => return None,
+    })
+}
+
+/// Clears every tile (or the app's scissored part of each) while framebuffer 0 is bound.
+pub fn clear(gl: &Gl, mv: &Multiview, f: impl Fn()) {
+    let Some(layout) = mv.layout().filter(|_| mv.on_default_draw()) else { return f() };
+    // SAFETY: querying and restoring the scissor test around our per-tile clears.
+    let scissored = unsafe { gl.IsEnabled(SCISSOR_TEST) } != 0;
+    if !scissored {
+        return f();
+    }
+    for i in 0..layout.views() {
+        let r = intersect(layout.map_rect(i, mv.app.scissor), layout.tile_rect(i));
+        unsafe { gl.Scissor(r[0], r[1], r[2], r[3]) };
+        f();
+    }
+    let s = mv.app.scissor;
+    unsafe { gl.Scissor(s[0], s[1], s[2], s[3]) };
+}
+
+/// Source rectangle of a read from framebuffer 0: the centre view's tile.
+pub fn centre_rect(mv: &Multiview, r: [i32; 4]) -> Option<[i32; 4]> {
+    let layout = mv.layout().filter(|_| mv.app.read_fbo == 0 && mv.quilt_fbo().is_some())?;
+    Some(layout.map_rect(mv.rig.centre(), r))
+}
+
+/// `glBlitFramebuffer` with framebuffer 0 on either side: reads come from the centre tile
+/// (or, framebuffer 0 to itself, from each view's own tile); writes go to every tile.
+pub fn blit(mv: &Multiview, src: [i32; 4], dst: [i32; 4], f: impl Fn([i32; 4], [i32; 4])) {
+    let Some(layout) = mv.layout().filter(|_| mv.quilt_fbo().is_some()) else { return f(src, dst) };
+    let corners = |r: [i32; 4]| [r[0], r[1], r[2] - r[0], r[3] - r[1]];
+    let back = |r: [i32; 4]| [r[0], r[1], r[0] + r[2], r[1] + r[3]];
+    let (src_fb0, dst_fb0) = (mv.app.read_fbo == 0, mv.app.draw_fbo == 0);
+    if !dst_fb0 {
+        let s = if src_fb0 { back(layout.map_rect(mv.rig.centre(), corners(src))) } else { src };
+        return f(s, dst);
+    }
+    for i in 0..layout.views() {
+        let s = if src_fb0 { back(layout.map_rect(i, corners(src))) } else { src };
+        f(s, back(layout.map_rect(i, corners(dst))));
+    }
+}

@@ -1,0 +1,127 @@
+//! Where each view lives in the quilt (DESIGN §4): view `i` at column `i mod C`, row
+//! `floor(i/C)` counted from the bottom (GL origin), and how the app's window coordinates map
+//! into a tile.
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct QuiltLayout {
+    pub cols: u32,
+    pub rows: u32,
+    pub tile_w: u32,
+    pub tile_h: u32,
+    /// The app's default framebuffer, whose coordinates the app draws in.
+    pub window_w: u32,
+    pub window_h: u32,
+}
+
+/// Largest quilt edge we allocate when the tile size is derived from the window.
+pub const MAX_QUILT_EDGE: u32 = 8192;
+
+impl QuiltLayout {
+    /// Tiles default to the window size (so views are pixel-exact renders of the app's
+    /// frame), shrunk uniformly when the quilt would exceed `MAX_QUILT_EDGE`.
+    pub fn new(quilt: (u32, u32), tile: Option<(u32, u32)>, window: (u32, u32)) -> QuiltLayout {
+        let (cols, rows) = (quilt.0.max(1), quilt.1.max(1));
+        let (tile_w, tile_h) = tile.unwrap_or_else(|| {
+            let scale = (MAX_QUILT_EDGE as f64 / (cols * window.0.max(1)) as f64)
+                .min(MAX_QUILT_EDGE as f64 / (rows * window.1.max(1)) as f64)
+                .min(1.0);
+            (((window.0 as f64 * scale) as u32).max(1), ((window.1 as f64 * scale) as u32).max(1))
+        });
+        QuiltLayout { cols, rows, tile_w, tile_h, window_w: window.0.max(1), window_h: window.1.max(1) }
+    }
+
+    pub fn views(&self) -> u32 {
+        self.cols * self.rows
+    }
+
+    pub fn width(&self) -> u32 {
+        self.cols * self.tile_w
+    }
+
+    pub fn height(&self) -> u32 {
+        self.rows * self.tile_h
+    }
+
+    /// Lower-left corner of view `i`'s tile.
+    pub fn origin(&self, i: u32) -> (i32, i32) {
+        (((i % self.cols) * self.tile_w) as i32, ((i / self.cols) * self.tile_h) as i32)
+    }
+
+    /// True when tiles are the window's size, so window pixels map 1:1 into tiles.
+    pub fn unscaled(&self) -> bool {
+        self.tile_w == self.window_w && self.tile_h == self.window_h
+    }
+
+    /// A rectangle in window coordinates mapped into view `i`'s tile. Edges are mapped (not
+    /// origin and size separately) so adjacent rectangles stay adjacent after rounding.
+    pub fn map_rect(&self, i: u32, r: [i32; 4]) -> [i32; 4] {
+        let (ox, oy) = self.origin(i);
+        let sx = self.tile_w as f64 / self.window_w as f64;
+        let sy = self.tile_h as f64 / self.window_h as f64;
+        let (x0, y0) = ((r[0] as f64 * sx).round() as i32, (r[1] as f64 * sy).round() as i32);
+        let (x1, y1) = (((r[0] + r[2]) as f64 * sx).round() as i32, ((r[1] + r[3]) as f64 * sy).round() as i32);
+        [ox + x0, oy + y0, x1 - x0, y1 - y0]
+    }
+
+    /// The tile of view `i` as a rectangle.
+    pub fn tile_rect(&self, i: u32) -> [i32; 4] {
+        let (x, y) = self.origin(i);
+        [x, y, self.tile_w as i32, self.tile_h as i32]
+    }
+
+    /// View aspect as written in quilt file names: `a{W/H}` with up to 4 decimals.
+    pub fn aspect_label(&self) -> String {
+        let a = format!("{:.4}", self.window_w as f64 / self.window_h as f64);
+        a.trim_end_matches('0').trim_end_matches('.').to_string()
+    }
+
+    /// `qs{C}x{R}a{aspect}`, the Looking Glass quilt naming convention.
+    pub fn file_tag(&self) -> String {
+        format!("qs{}x{}a{}", self.cols, self.rows, self.aspect_label())
+    }
+}
+
+/// Intersection of two rectangles (x, y, w, h); empty results have zero size.
+pub fn intersect(a: [i32; 4], b: [i32; 4]) -> [i32; 4] {
+    let x0 = a[0].max(b[0]);
+    let y0 = a[1].max(b[1]);
+    let x1 = (a[0] + a[2]).min(b[0] + b[2]);
+    let y1 = (a[1] + a[3]).min(b[1] + b[3]);
+    [x0, y0, (x1 - x0).max(0), (y1 - y0).max(0)]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn views_fill_rows_from_the_bottom() {
+        let l = QuiltLayout::new((3, 2), Some((100, 50)), (200, 100));
+        assert_eq!(l.origin(0), (0, 0));
+        assert_eq!(l.origin(2), (200, 0));
+        assert_eq!(l.origin(3), (0, 50));
+        assert_eq!((l.width(), l.height()), (300, 100));
+    }
+
+    #[test]
+    fn window_rects_scale_into_tiles() {
+        let l = QuiltLayout::new((3, 2), Some((100, 50)), (200, 100));
+        assert_eq!(l.map_rect(4, [0, 0, 200, 100]), [100, 50, 100, 50]);
+        assert_eq!(l.map_rect(0, [20, 10, 40, 20]), [10, 5, 20, 10]);
+    }
+
+    #[test]
+    fn default_tiles_are_the_window_until_the_quilt_gets_too_big() {
+        assert!(QuiltLayout::new((3, 3), None, (640, 480)).unscaled());
+        let big = QuiltLayout::new((8, 6), None, (1920, 1080));
+        assert!(big.width() <= MAX_QUILT_EDGE && big.height() <= MAX_QUILT_EDGE);
+        assert_eq!(big.file_tag(), "qs8x6a1.7778");
+        assert_eq!(QuiltLayout::new((8, 6), Some((420, 560)), (420, 560)).aspect_label(), "0.75");
+    }
+
+    #[test]
+    fn intersection() {
+        assert_eq!(intersect([0, 0, 10, 10], [5, 5, 10, 10]), [5, 5, 5, 5]);
+        assert_eq!(intersect([0, 0, 1, 1], [5, 5, 1, 1])[2], 0);
+    }
+}

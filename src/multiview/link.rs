@@ -1,0 +1,117 @@
+//! Link time: the app's last pre-rasterisation shader gets the view shift.
+//!
+//! The app's *own* shader object is recompiled with the rewritten source just before its
+//! link, so program names, attribute and uniform locations and every `glGet*` answer stay the
+//! app's (only `glGetShaderSource` needs correcting, see the query handlers). Anything that
+//! fails — analysis, compile, link — puts the original source back and links again: the app
+//! always ends up with a working program, at worst without parallax, and we log why once.
+
+use crate::gl::*;
+use crate::shader::{self, Stage};
+use crate::state::ShareGroup;
+use std::ffi::CString;
+
+fn shader_iv(gl: &Gl, shader: u32, pname: GLenum) -> i32 {
+    let mut v = 0;
+    // SAFETY: single-integer shader query into a local.
+    unsafe { gl.GetShaderiv(shader, pname, &mut v) };
+    v
+}
+
+fn attached_shaders(gl: &Gl, program: u32) -> Vec<u32> {
+    let mut names = [0u32; 16];
+    let mut n = 0;
+    // SAFETY: room for 16 names; programs rarely have more than 5 stages.
+    unsafe { gl.GetAttachedShaders(program, names.len() as i32, &mut n, names.as_mut_ptr()) };
+    names[..n.max(0) as usize].to_vec()
+}
+
+fn source_of(gl: &Gl, shader: u32) -> String {
+    let len = shader_iv(gl, shader, SHADER_SOURCE_LENGTH).max(1);
+    let mut buf = vec![0u8; len as usize];
+    let mut written = 0;
+    // SAFETY: the buffer holds `len` bytes including the terminator.
+    unsafe { gl.GetShaderSource(shader, len, &mut written, buf.as_mut_ptr().cast()) };
+    buf.truncate(written.max(0) as usize);
+    String::from_utf8_lossy(&buf).into_owned()
+}
+
+fn compile(gl: &Gl, shader: u32, source: &str) -> bool {
+    let Ok(c) = CString::new(source) else { return false };
+    let ptr = c.as_ptr();
+    // SAFETY: one NUL-terminated string.
+    unsafe {
+        gl.ShaderSource(shader, 1, &ptr, core::ptr::null());
+        gl.CompileShader(shader);
+    }
+    shader_iv(gl, shader, COMPILE_STATUS) != 0
+}
+
+/// The stage whose gl_Position reaches the rasteriser: geometry, else tessellation
+/// evaluation, else vertex.
+fn last_position_stage(gl: &Gl, shaders: &[u32]) -> Option<(u32, Stage)> {
+    let staged: Vec<(u32, Stage)> =
+        shaders.iter().filter_map(|&s| Some((s, Stage::from_gl(shader_iv(gl, s, SHADER_TYPE) as u32)?))).collect();
+    [Stage::Geometry, Stage::TessEval, Stage::Vertex].into_iter().find_map(|want| staged.iter().copied().find(|(_, st)| *st == want))
+}
+
+/// Links `program` (through `link`, the real glLinkProgram) with the view shift injected.
+pub fn link_program(gl: &Gl, group: &ShareGroup, program: u32, link: impl Fn()) {
+    let Some((shader, stage)) = last_position_stage(gl, &attached_shaders(gl, program)) else { return link() };
+    let known = group.lock().original_sources.get(&shader).cloned();
+    let original = known.clone().unwrap_or_else(|| source_of(gl, shader));
+    let analysis = shader::analyse(&original, stage);
+    let rewritten = known.is_some() || try_rewrite(gl, group, shader, &original, &analysis, program);
+    link();
+    let linked = {
+        let mut ok = 0;
+        // SAFETY: single-integer program query.
+        unsafe { gl.GetProgramiv(program, LINK_STATUS, &mut ok) };
+        ok != 0
+    };
+    if rewritten && !linked {
+        crate::log::warn(format_args!("program {program}: link failed with the view shift; linking the app's original"));
+        compile(gl, shader, &original);
+        group.lock().original_sources.remove(&shader);
+        link();
+        return;
+    }
+    if linked {
+        record(gl, group, program, &analysis, rewritten);
+    }
+}
+
+fn try_rewrite(gl: &Gl, group: &ShareGroup, shader: u32, original: &str, analysis: &shader::Analysis, program: u32) -> bool {
+    let new = match shader::rewrite(original, analysis) {
+        Ok(s) => s,
+        Err(why) => {
+            crate::log::info(format_args!("program {program}: {:?} shader {shader} left as is: {why}", analysis.stage));
+            return false;
+        }
+    };
+    if !compile(gl, shader, &new) {
+        crate::log::warn(format_args!("program {program}: rewritten {:?} shader {shader} does not compile; using the original", analysis.stage));
+        compile(gl, shader, original);
+        return false;
+    }
+    group.lock().original_sources.insert(shader, original.to_string());
+    true
+}
+
+fn uniform_location(gl: &Gl, program: u32, name: &str) -> i32 {
+    let Ok(c) = CString::new(name) else { return -1 };
+    // SAFETY: a NUL-terminated name for a linked program.
+    unsafe { gl.GetUniformLocation(program, c.as_ptr()) }
+}
+
+fn record(gl: &Gl, group: &ShareGroup, program: u32, analysis: &shader::Analysis, rewritten: bool) {
+    let view_loc = if rewritten { uniform_location(gl, program, shader::VIEW_UNIFORM) } else { -1 };
+    let builtin = analysis.matrix_uniforms.iter().any(|n| n.starts_with("gl_"));
+    let matrix_locs =
+        analysis.matrix_uniforms.iter().filter(|n| !n.starts_with("gl_")).map(|n| uniform_location(gl, program, n)).filter(|&l| l >= 0).collect();
+    crate::log::debug(format_args!(
+        "program {program}: {:?}, view uniform at {view_loc}, matrices {:?}",
+        analysis.position_kind, analysis.matrix_uniforms
+    ));
+    group.lock().programs.insert(program, super::replay::program_info(view_loc, matrix_locs, builtin));
+}

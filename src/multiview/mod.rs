@@ -1,0 +1,179 @@
+//! Per-view replay.
+//!
+//! The app's default framebuffer is replaced by a quilt ([`target::QuiltTarget`]): whenever
+//! the app binds framebuffer 0 we bind the quilt instead, and every draw issued while it is
+//! bound is replayed once per view, with the viewport and scissor mapped into that view's
+//! tile and the injected `holoinject_view` uniform (or, for fixed-function draws, the
+//! projection matrix) set to that view's shift. The app keeps seeing its own state: its
+//! viewport and scissor stay in GL between draws, `glGet*` answers report framebuffer 0 and
+//! its draw/read buffers, and `glReadPixels` from framebuffer 0 reads the centre view.
+//!
+//! Draws into the app's own framebuffers are drawn once, as the centre view (multi-pass
+//! renderers get layered shadows in a later issue).
+
+pub mod framebuffer;
+pub mod immediate;
+pub mod layout;
+pub mod link;
+pub mod replay;
+pub mod target;
+
+use crate::camera::ViewRig;
+use crate::config::{Convergence, ViewSettings};
+use crate::gl::GLenum;
+use crate::gl::guard::get_i4;
+use crate::state::{Current, GlInfo};
+use layout::QuiltLayout;
+use target::QuiltTarget;
+
+/// The app's view of its default-framebuffer-related state.
+#[derive(Clone, Copy, Debug)]
+pub struct AppFramebuffer {
+    pub draw_fbo: u32,
+    pub read_fbo: u32,
+    pub viewport: [i32; 4],
+    pub scissor: [i32; 4],
+    /// The app's `glDrawBuffer`/`glReadBuffer` choice for framebuffer 0 (e.g. GL_BACK).
+    pub draw_buffer: GLenum,
+    pub read_buffer: GLenum,
+}
+
+pub struct Multiview {
+    pub info: GlInfo,
+    pub settings: ViewSettings,
+    pub target: Option<QuiltTarget>,
+    pub app: AppFramebuffer,
+    pub rig: ViewRig,
+    pub program: u32,
+    /// Smoothed auto-convergence estimate (w units), once the scene has been seen.
+    pub auto_convergence: Option<f64>,
+    /// Depth model of the last perspective projection seen (for auto-convergence).
+    pub last_depth: Option<crate::camera::projection::DepthRange>,
+    pub failed: bool,
+    /// The app is compiling a display list: its calls must not be replayed.
+    pub compiling_list: bool,
+    pub immediate_list: u32,
+    pub recording_immediate: bool,
+}
+
+impl Multiview {
+    /// Multiview state for a context just made current on a surface of `window` pixels.
+    pub fn new(gl: &crate::gl::Gl, info: GlInfo, settings: ViewSettings, window: (u32, u32)) -> Multiview {
+        let (draw, read) = (info.es || info.at_least(3, 0)).then_some(()).map_or((0, 0), |_| {
+            (
+                crate::gl::guard::get_i(gl, crate::gl::DRAW_FRAMEBUFFER_BINDING) as u32,
+                crate::gl::guard::get_i(gl, crate::gl::READ_FRAMEBUFFER_BINDING) as u32,
+            )
+        });
+        let app = AppFramebuffer {
+            draw_fbo: draw,
+            read_fbo: read,
+            viewport: get_i4(gl, crate::gl::VIEWPORT),
+            scissor: get_i4(gl, crate::gl::SCISSOR_BOX),
+            draw_buffer: crate::gl::BACK,
+            read_buffer: crate::gl::BACK,
+        };
+        let layout = QuiltLayout::new(settings.quilt, settings.tile, window);
+        let rig = ViewRig { views: layout.views(), depthiness: 0.0, convergence: 1.0, focus: settings.focus };
+        let mut mv = Multiview {
+            info,
+            settings,
+            target: None,
+            app,
+            rig,
+            program: crate::gl::guard::get_i(gl, crate::gl::CURRENT_PROGRAM) as u32,
+            auto_convergence: None,
+            last_depth: None,
+            failed: false,
+            compiling_list: false,
+            immediate_list: 0,
+            recording_immediate: false,
+        };
+        mv.update_rig(layout);
+        mv
+    }
+
+    /// Depthiness and convergence for the current layout and scene (DESIGN §3 defaults).
+    pub fn update_rig(&mut self, layout: QuiltLayout) {
+        let views = layout.views();
+        self.rig.views = views;
+        self.rig.depthiness =
+            self.settings.depthiness.unwrap_or_else(|| ViewRig::depthiness_for_disparity(4.0, views, layout.tile_w));
+        self.rig.convergence = match self.settings.convergence {
+            Convergence::Fixed(c) => c,
+            Convergence::Auto => self.auto_convergence.unwrap_or_else(|| self.fallback_convergence()),
+        };
+    }
+
+    /// Before the scene's depth has been seen: the geometric mean of near and far when the
+    /// projection is known, else one unit.
+    fn fallback_convergence(&self) -> f64 {
+        self.last_depth
+            .map(|d| {
+                let far = if d.far().is_finite() { d.far() } else { d.near() * 1e4 };
+                (d.near().max(1e-6) * far).sqrt()
+            })
+            .filter(|c| c.is_finite() && *c > 0.0)
+            .unwrap_or(1.0)
+    }
+
+    /// Multiview applies to what is drawn to framebuffer 0 right now.
+    pub fn on_default_draw(&self) -> bool {
+        self.target.is_some() && self.app.draw_fbo == 0 && !self.failed && !self.compiling_list
+    }
+
+    pub fn layout(&self) -> Option<QuiltLayout> {
+        self.target.as_ref().map(|t| t.layout)
+    }
+
+    /// The quilt's framebuffer name while it stands in for framebuffer 0.
+    pub fn quilt_fbo(&self) -> Option<u32> {
+        self.target.as_ref().filter(|_| !self.failed).map(|t| t.fbo)
+    }
+}
+
+/// Runs `f` with the current context's multiview state and GL table, when multiview is on.
+pub fn with_active<R>(f: impl FnOnce(&Current, &mut Multiview, &crate::gl::Gl) -> R) -> Option<R> {
+    crate::state::with_current(|cur| {
+        let cur = cur?;
+        let (gl, _) = cur.ctx.gl()?;
+        let mut guard = cur.ctx.mv();
+        let mv = guard.as_mut()?;
+        Some(f(cur, mv, gl))
+    })
+}
+
+/// Sets up multiview for a context at make-current (first time, or on a new surface size).
+pub fn on_make_current(cur: &Current) {
+    let settings = crate::config::settings();
+    if !settings.multiview() {
+        return;
+    }
+    let Some((gl, info)) = cur.ctx.gl() else { return };
+    if !(info.es && info.at_least(3, 0) || !info.es && info.at_least(3, 0)) {
+        crate::log::warn(format_args!("context {:#x}: GL {info:?} has no framebuffer objects; multiview off", cur.ctx.handle));
+        return;
+    }
+    let Some(window) = crate::output::surface_size(cur) else {
+        crate::log::warn(format_args!("context {:#x}: surface size unknown; multiview off", cur.ctx.handle));
+        return;
+    };
+    let mut guard = cur.ctx.mv();
+    let mv = guard.get_or_insert_with(|| Multiview::new(gl, *info, settings.view.clone(), window));
+    framebuffer::ensure_target(gl, mv, window);
+}
+
+/// Auto-convergence from the centre view's depth of the frame just finished.
+pub fn update_convergence(gl: &crate::gl::Gl, mv: &mut Multiview) {
+    if mv.settings.convergence != Convergence::Auto {
+        return;
+    }
+    let (Some(target), Some(range)) = (mv.target.as_ref(), mv.last_depth) else { return };
+    let tile = target.layout.tile_rect(mv.rig.centre());
+    let depths = crate::gl::readback::read_depth(gl, mv.info, target.fbo, tile);
+    if let Some(c) = crate::camera::convergence::estimate(&depths, range) {
+        mv.auto_convergence = Some(crate::camera::convergence::smooth(mv.auto_convergence, c));
+        let layout = target.layout;
+        mv.update_rig(layout);
+    }
+}

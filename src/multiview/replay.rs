@@ -1,0 +1,164 @@
+//! One draw call, replayed once per view into its tile.
+//!
+//! Per view only three things change: the viewport (the app's, mapped into the tile), the
+//! scissor (clamped to the tile so wide lines, points and clears never bleed into a
+//! neighbour), and the view shift — the injected uniform for shader programs, or the
+//! projection matrix for fixed-function draws. Everything is put back afterwards.
+
+use super::Multiview;
+use super::layout::intersect;
+use crate::camera::projection::{self, ProjectionKind};
+use crate::gl::*;
+use crate::state::ShareGroup;
+use crate::state::share::ProgramInfo;
+
+/// Shader-side projection mode (see `glsl-patches/view_shift.glsl`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Mode {
+    Perspective = 0,
+    Orthographic = 1,
+    Unknown = 2,
+}
+
+/// How a draw's views differ.
+enum Shift {
+    /// `holoinject_view` at this location.
+    Uniform { loc: i32, mode: Mode },
+    /// Fixed function: the app's projection, sheared per view.
+    Projection([f32; 16]),
+    /// Nothing view-dependent (orthographic fixed function, or a program we left alone).
+    None,
+}
+
+fn fixed_function_projection(gl: &Gl) -> Option<[f32; 16]> {
+    let mut p = [0f32; 16];
+    // SAFETY: a 16-float query into a local array.
+    unsafe { gl.GetFloatv(PROJECTION_MATRIX, p.as_mut_ptr()) };
+    Some(p)
+}
+
+fn mode_of(matrix: Option<[f32; 16]>, mv: &mut Multiview) -> Mode {
+    match matrix.and_then(|m| projection::classify(&m)) {
+        Some(p) if p.kind == ProjectionKind::Orthographic => Mode::Orthographic,
+        Some(p) => {
+            if p.depth.is_some() {
+                mv.last_depth = p.depth;
+            }
+            Mode::Perspective
+        }
+        None => Mode::Unknown,
+    }
+}
+
+fn shift_for(gl: &Gl, mv: &mut Multiview, group: &ShareGroup) -> Shift {
+    if mv.program == 0 {
+        if mv.info.es {
+            return Shift::None;
+        }
+        return match fixed_function_projection(gl) {
+            Some(p) if mode_of(Some(p), mv) == Mode::Perspective => Shift::Projection(p),
+            _ => Shift::None,
+        };
+    }
+    let state = group.lock();
+    let Some(info) = state.programs.get(&mv.program).filter(|p| p.view_loc >= 0) else { return Shift::None };
+    let matrix = if info.builtin_projection {
+        fixed_function_projection(gl)
+    } else {
+        info.matrix_locs.first().and_then(|&loc| state.matrices.get(&(mv.program, loc)).copied())
+    };
+    let loc = info.view_loc;
+    drop(state);
+    Shift::Uniform { loc, mode: mode_of(matrix, mv) }
+}
+
+fn set_view_uniform(gl: &Gl, mv: &Multiview, loc: i32, i: u32, mode: Mode) {
+    let v = mv.rig.params(i);
+    // SAFETY: `loc` belongs to the program current in this context (ProgramUniform when
+    // available, so separable pipelines work too).
+    unsafe {
+        if gl.ProgramUniform4f.is_loaded() {
+            gl.ProgramUniform4f(mv.program, loc, v.k, v.c, v.h, mode as i32 as f32);
+        } else {
+            gl.Uniform4f(loc, v.k, v.c, v.h, mode as i32 as f32);
+        }
+    }
+}
+
+/// A draw into one of the app's own framebuffers: the centre view only.
+fn draw_single(gl: &Gl, mv: &Multiview, group: &ShareGroup, f: impl Fn()) {
+    if mv.program != 0 {
+        let mut state = group.lock();
+        if let Some(p) = state.programs.get_mut(&mv.program).filter(|p| p.view_loc >= 0 && !p.centre_set) {
+            p.centre_set = true;
+            let loc = p.view_loc;
+            drop(state);
+            set_view_uniform(gl, mv, loc, mv.rig.centre(), Mode::Unknown);
+        }
+    }
+    f()
+}
+
+/// Replays `f` (the real draw) once per view when framebuffer 0 is the target.
+pub fn draw(gl: &Gl, mv: &mut Multiview, group: &ShareGroup, f: impl Fn()) {
+    let Some(layout) = mv.layout().filter(|_| mv.on_default_draw()) else {
+        return draw_single(gl, mv, group, f);
+    };
+    let shift = shift_for(gl, mv, group);
+    // SAFETY: viewport, scissor, uniform and projection changes below are all restored.
+    let scissored = unsafe { gl.IsEnabled(SCISSOR_TEST) } != 0;
+    let _mode_guard = matches!(shift, Shift::Projection(_)).then(|| crate::gl::guard::StateGuard::new(gl, mv.info).matrix_mode());
+    unsafe {
+        gl.Enable(SCISSOR_TEST);
+        if let Shift::Projection(_) = shift {
+            gl.MatrixMode(PROJECTION);
+        }
+    }
+    for i in 0..layout.views() {
+        let vp = layout.map_rect(i, mv.app.viewport);
+        let tile = layout.tile_rect(i);
+        let sc = if scissored { intersect(layout.map_rect(i, mv.app.scissor), tile) } else { tile };
+        unsafe {
+            gl.Viewport(vp[0], vp[1], vp[2], vp[3]);
+            gl.Scissor(sc[0], sc[1], sc[2], sc[3]);
+        }
+        match shift {
+            Shift::Uniform { loc, mode } => set_view_uniform(gl, mv, loc, i, mode),
+            Shift::Projection(p) => load_sheared(gl, mv, i, &p),
+            Shift::None => {}
+        }
+        f();
+    }
+    restore(gl, mv, scissored, &shift, group);
+}
+
+fn load_sheared(gl: &Gl, mv: &Multiview, i: u32, p: &[f32; 16]) {
+    let sheared = mv.rig.shear(i, &p.map(f64::from)).map(|v| v as f32);
+    // SAFETY: GL_PROJECTION is the current matrix mode inside the replay loop.
+    unsafe { gl.LoadMatrixf(sheared.as_ptr()) };
+}
+
+fn restore(gl: &Gl, mv: &Multiview, scissored: bool, shift: &Shift, group: &ShareGroup) {
+    let (v, s) = (mv.app.viewport, mv.app.scissor);
+    // SAFETY: putting back the app's own values.
+    unsafe {
+        gl.Viewport(v[0], v[1], v[2], v[3]);
+        gl.Scissor(s[0], s[1], s[2], s[3]);
+        if !scissored {
+            gl.Disable(SCISSOR_TEST);
+        }
+        if let Shift::Projection(p) = shift {
+            gl.LoadMatrixf(p.as_ptr());
+        }
+    }
+    if let Shift::Uniform { .. } = shift {
+        if let Some(p) = group.lock().programs.get_mut(&mv.program) {
+            p.centre_set = false;
+        }
+    }
+}
+
+/// Link-time facts about a program, as the replay needs them.
+pub fn program_info(view_loc: i32, matrix_locs: Vec<i32>, builtin_projection: bool) -> ProgramInfo {
+    ProgramInfo { view_loc, matrix_locs, builtin_projection, centre_set: false }
+}

@@ -1,0 +1,75 @@
+//! The quilt render target that stands in for the app's default framebuffer: one colour
+//! texture holding every view's tile and a depth/stencil renderbuffer, both sized to the
+//! whole quilt. The colour format follows the real default framebuffer (alpha or not), so
+//! blending with destination alpha behaves as it would on screen.
+
+use super::layout::QuiltLayout;
+use crate::gl::guard::{StateGuard, get_i};
+use crate::gl::*;
+use crate::state::GlInfo;
+
+pub struct QuiltTarget {
+    pub fbo: u32,
+    pub color: u32,
+    pub depth: u32,
+    pub layout: QuiltLayout,
+}
+
+/// Alpha bits of the real default framebuffer's back buffer.
+fn default_has_alpha(gl: &Gl, info: GlInfo) -> bool {
+    let mut bits = 8;
+    let attachment = if info.es { BACK } else { BACK_LEFT };
+    // SAFETY: the default framebuffer is bound for draw (by the caller's guard) and the
+    // query writes one integer.
+    unsafe {
+        gl.BindFramebuffer(DRAW_FRAMEBUFFER, 0);
+        gl.GetFramebufferAttachmentParameteriv(DRAW_FRAMEBUFFER, attachment, FRAMEBUFFER_ATTACHMENT_ALPHA_SIZE, &mut bits);
+    }
+    bits > 0
+}
+
+impl QuiltTarget {
+    pub fn create(gl: &Gl, info: GlInfo, layout: QuiltLayout) -> Result<QuiltTarget, String> {
+        let _guard = StateGuard::new(gl, info).framebuffers().for_pass();
+        let alpha = default_has_alpha(gl, info);
+        let (mut fbo, mut color, mut depth) = (0, 0, 0);
+        let (w, h) = (layout.width() as i32, layout.height() as i32);
+        // SAFETY: creating and configuring our own objects; bindings are restored by the guard.
+        let status = unsafe {
+            gl.GenTextures(1, &mut color);
+            gl.BindTexture(TEXTURE_2D, color);
+            gl.TexStorage2D(TEXTURE_2D, 1, if alpha { RGBA8 } else { RGB8 }, w, h);
+            for (p, v) in [(TEXTURE_MIN_FILTER, LINEAR), (TEXTURE_MAG_FILTER, LINEAR), (TEXTURE_WRAP_S, CLAMP_TO_EDGE), (TEXTURE_WRAP_T, CLAMP_TO_EDGE)] {
+                gl.TexParameteri(TEXTURE_2D, p, v as i32);
+            }
+            gl.GenRenderbuffers(1, &mut depth);
+            gl.BindRenderbuffer(RENDERBUFFER, depth);
+            gl.RenderbufferStorage(RENDERBUFFER, DEPTH24_STENCIL8, w, h);
+            gl.GenFramebuffers(1, &mut fbo);
+            gl.BindFramebuffer(FRAMEBUFFER, fbo);
+            gl.FramebufferTexture2D(FRAMEBUFFER, COLOR_ATTACHMENT0, TEXTURE_2D, color, 0);
+            gl.FramebufferRenderbuffer(FRAMEBUFFER, DEPTH_STENCIL_ATTACHMENT, RENDERBUFFER, depth);
+            gl.CheckFramebufferStatus(FRAMEBUFFER)
+        };
+        let target = QuiltTarget { fbo, color, depth, layout };
+        if status != FRAMEBUFFER_COMPLETE {
+            target.delete(gl);
+            return Err(format!("quilt framebuffer {w}x{h} incomplete (status {status:#x})"));
+        }
+        Ok(target)
+    }
+
+    pub fn delete(&self, gl: &Gl) {
+        // SAFETY: deleting objects we created; zero names are ignored by GL.
+        unsafe {
+            gl.DeleteFramebuffers(1, &self.fbo);
+            gl.DeleteTextures(1, &self.color);
+            gl.DeleteRenderbuffers(1, &self.depth);
+        }
+    }
+
+    /// Is our quilt the framebuffer bound to `pname` right now?
+    pub fn is_bound(&self, gl: &Gl, pname: GLenum) -> bool {
+        get_i(gl, pname) as u32 == self.fbo
+    }
+}

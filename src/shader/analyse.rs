@@ -1,0 +1,66 @@
+//! Entry point of the analysis: parse with glsl-lang, fall back to the token scan.
+
+use glsl_lang::ast::TranslationUnit;
+use glsl_lang::parse::DefaultParse;
+
+use super::{Analysis, PositionKind, Stage, ast_walk, text, text_scan};
+
+/// What both analysers report about the `gl_Position` writes.
+#[derive(Clone, Debug, Default)]
+pub(super) struct Findings {
+    pub writes_position: bool,
+    pub writes_layer: bool,
+    pub kind: Option<PositionKind>,
+    pub matrices: Vec<String>,
+}
+
+impl Findings {
+    /// Merges one more `gl_Position` write: the kinds must agree, else `Unknown`.
+    pub fn add_write(&mut self, kind: PositionKind, matrices: &[String]) {
+        self.writes_position = true;
+        self.kind = Some(match self.kind.take() {
+            None => kind,
+            Some(prev) if prev == kind => prev,
+            Some(_) => PositionKind::Unknown,
+        });
+        for m in matrices {
+            if !self.matrices.contains(m) {
+                self.matrices.push(m.clone());
+            }
+        }
+    }
+}
+
+pub fn analyse(source: &str, stage: Stage) -> Analysis {
+    let blanked = text::blank_comments(source);
+    let version = text::version(&text::directives(&blanked)).map(|(v, _)| v);
+    let parsed = parse(source);
+    let findings = match &parsed {
+        Some(tu) => ast_walk::walk(tu),
+        None => text_scan::scan(&blanked),
+    };
+    Analysis {
+        stage,
+        version,
+        parsed: parsed.is_some(),
+        writes_position: findings.writes_position,
+        writes_layer: findings.writes_layer,
+        position_kind: findings.kind.unwrap_or(PositionKind::Unknown),
+        matrix_uniforms: findings.matrices,
+    }
+}
+
+/// glsl-lang's verdict; it can panic on inputs nobody tested, and no panic may cross FFI.
+fn parse(source: &str) -> Option<TranslationUnit> {
+    std::panic::catch_unwind(|| TranslationUnit::parse(source).ok())
+        .ok()
+        .flatten()
+}
+
+/// Why glsl-lang refused the source, for logs (`None` when it parses).
+pub fn parse_error(source: &str) -> Option<String> {
+    match std::panic::catch_unwind(|| TranslationUnit::parse(source).err().map(|e| e.to_string())) {
+        Ok(err) => err,
+        Err(_) => Some("glsl-lang panicked".to_string()),
+    }
+}

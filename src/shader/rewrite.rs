@@ -1,0 +1,132 @@
+//! The minimal text edit that applies `holoinject_shift` to the app's `gl_Position`.
+//!
+//! Vertex / tessellation-evaluation: `main` is renamed by a `#define` right after `#version`
+//! and a wrapper `main` is appended that calls it and shifts `gl_Position`. Geometry: every
+//! `EmitVertex()` / `EmitStreamVertex(n)` is routed through a function that shifts first. Every
+//! inserted block ends with a `#line` so the app's own line numbers are unchanged.
+
+use super::text::{self, Directive};
+use super::{Analysis, Stage, VIEW_SHIFT_GLSL};
+
+pub fn rewrite(source: &str, analysis: &Analysis) -> Result<String, String> {
+    let blanked = text::blank_comments(source);
+    refuse(&blanked, analysis)?;
+    let dirs = text::directives(&blanked);
+    match analysis.stage {
+        Stage::Geometry => Ok(rewrite_geometry(source, &blanked, &dirs)),
+        _ => rewrite_main(source, &blanked, &dirs),
+    }
+}
+
+/// The cases the rewrite must leave alone, with the reason for the log.
+fn refuse(blanked: &str, analysis: &Analysis) -> Result<(), String> {
+    if !analysis.stage.can_feed_rasterizer() {
+        return Err("not a position-writing stage".into());
+    }
+    if ["holoinject_app_main", "holoinject_shift", "holoinject_view"]
+        .iter()
+        .any(|name| text::has_ident(blanked, name))
+    {
+        return Err("already rewritten by holoinject".into());
+    }
+    if !analysis.writes_position {
+        return Err("does not write gl_Position".into());
+    }
+    if analysis.writes_layer {
+        return Err("writes gl_Layer or gl_ViewportIndex (layered pass)".into());
+    }
+    Ok(())
+}
+
+fn rewrite_main(source: &str, blanked: &str, dirs: &[Directive]) -> Result<String, String> {
+    if dirs.iter().any(|d| d.name == "define" && first_word(&d.rest) == "main") {
+        return Err("the shader #defines main itself".into());
+    }
+    if !defines_main(blanked) {
+        return Err("no main()".into());
+    }
+    let version = text::version(dirs);
+    let (offset, next_line) = match version {
+        Some((_, line)) => {
+            text::offset_after_line(source, line).ok_or("no code after #version")?
+        }
+        None => (0, 0),
+    };
+    let head = format!(
+        "#define main holoinject_app_main\n{}",
+        line_directive(version.map(|v| v.0), next_line + 1)
+    );
+    let tail = "#undef main\n".to_string()
+        + VIEW_SHIFT_GLSL
+        + "void main()\n{\n    holoinject_app_main();\n    gl_Position = holoinject_shift(gl_Position);\n}\n";
+    Ok(splice(source, offset, &head, &tail))
+}
+
+fn rewrite_geometry(source: &str, blanked: &str, dirs: &[Directive]) -> String {
+    let version = text::version(dirs);
+    // No non-preprocessor token may precede an #extension: our prototypes go after the last.
+    let anchor = dirs.iter().filter(|d| d.name == "extension").map(|d| d.line).last();
+    let anchor = anchor.or(version.map(|v| v.1));
+    let anchor = anchor.map(|line| text::line_after_conditionals(dirs, line));
+    let (offset, next_line) = anchor
+        .and_then(|line| text::offset_after_line(source, line))
+        .unwrap_or((0, 0));
+    let streams = text::has_ident(blanked, "EmitStreamVertex");
+    let mut head = String::from(
+        "void holoinject_shift_position();\nvoid holoinject_emit();\n\
+         #define EmitVertex() holoinject_emit()\n",
+    );
+    let mut tail = String::from("#undef EmitVertex\n");
+    if streams {
+        // The stream index must stay a constant expression, so no wrapper function here.
+        head += "#define EmitStreamVertex(s) (holoinject_shift_position(), EmitStreamVertex(s))\n";
+        tail += "#undef EmitStreamVertex\n";
+    }
+    head += &line_directive(version.map(|v| v.0), next_line + 1);
+    tail += VIEW_SHIFT_GLSL;
+    tail += "void holoinject_shift_position()\n{\n    gl_Position = holoinject_shift(gl_Position);\n}\n\
+             void holoinject_emit()\n{\n    holoinject_shift_position();\n    EmitVertex();\n}\n";
+    // Bodies go last: an app redeclaring `out gl_PerVertex` must do so before any use.
+    splice(source, offset, &head, &tail)
+}
+
+fn splice(source: &str, offset: usize, head: &str, tail: &str) -> String {
+    let mut out = String::with_capacity(source.len() + head.len() + tail.len() + 1);
+    out.push_str(&source[..offset]);
+    out.push_str(head);
+    out.push_str(&source[offset..]);
+    if !out.ends_with('\n') {
+        out.push('\n');
+    }
+    out.push_str(tail);
+    out
+}
+
+/// A `#line` that makes the line after it number `next`.
+///
+/// GLSL < 3.30 (and 1.10 without `#version`) numbers the line after `#line N` as N+1;
+/// GLSL 3.30+ and every GLSL ES version (1.00 included) as N (glslang
+/// `lineDirectiveShouldSetNextLine`, Mesa `glsl_lexer.ll`). Without `#version` the text cannot
+/// tell desktop 1.10 from ES 1.00, so the choice is left to the preprocessor via `GL_ES`.
+pub(super) fn line_directive(version: Option<(u32, bool)>, next: usize) -> String {
+    match version {
+        Some((v, es)) if es || v >= 330 => format!("#line {next}\n"),
+        Some(_) => format!("#line {}\n", next - 1),
+        None => format!(
+            "#ifdef GL_ES\n#define HOLOINJECT_LINE {next}\n#else\n#define HOLOINJECT_LINE {}\n\
+             #endif\n#line HOLOINJECT_LINE\n",
+            next - 1
+        ),
+    }
+}
+
+/// Whether the code (comments blanked) has a `main (` at the top level: a definition or a
+/// prototype; calls to `main` are illegal GLSL.
+fn defines_main(blanked: &str) -> bool {
+    let toks = text::tokens(blanked);
+    toks.windows(2).any(|w| w[0].is_ident("main") && w[1].is_punct("("))
+}
+
+fn first_word(s: &str) -> &str {
+    s.split(|c: char| !c.is_ascii_alphanumeric() && c != '_').next().unwrap_or("")
+}

@@ -1,0 +1,44 @@
+//! Objects shared by every context of a share group: programs (with what the layer learned
+//! about them at link time), the app's sources of shaders we rewrote, and the tracked values
+//! of matrix uniforms.
+
+use std::collections::HashMap;
+use std::sync::{Mutex, MutexGuard};
+
+/// What the layer knows about one linked program.
+#[derive(Clone, Debug, Default)]
+pub struct ProgramInfo {
+    /// Location of `holoinject_view`, or -1 when the program was left untouched.
+    pub view_loc: i32,
+    /// Locations of the matrix uniforms in the gl_Position expression, leftmost first.
+    pub matrix_locs: Vec<i32>,
+    /// gl_Position comes from the compatibility built-ins (`ftransform`, `gl_ModelView…`).
+    pub builtin_projection: bool,
+    /// The view uniform holds the centre view's values (so single draws need no update).
+    pub centre_set: bool,
+}
+
+#[derive(Default)]
+pub struct GroupState {
+    pub programs: HashMap<u32, ProgramInfo>,
+    /// App sources of shader objects whose source we replaced (for glGetShaderSource).
+    pub original_sources: HashMap<u32, String>,
+    /// Last value uploaded to each (program, location) mat4 uniform, column-major.
+    pub matrices: HashMap<(u32, i32), [f32; 16]>,
+}
+
+#[derive(Default)]
+pub struct ShareGroup {
+    pub id: u64,
+    state: Mutex<GroupState>,
+}
+
+impl ShareGroup {
+    pub fn new(id: u64) -> ShareGroup {
+        ShareGroup { id, state: Mutex::default() }
+    }
+
+    pub fn lock(&self) -> MutexGuard<'_, GroupState> {
+        self.state.lock().unwrap_or_else(|e| e.into_inner())
+    }
+}

@@ -1,0 +1,182 @@
+//! `legacy`: OpenGL 1.x fixed-function app (compat context): glFrustum,
+//! immediate mode, nested display lists, fog, lighting and a glOrtho HUD.
+use holoapps::cli::{AppInfo, Options};
+use holoapps::gl::{self, Gl};
+use holoapps::platform::Profile;
+use holoapps::scene::{Scene, View, seconds};
+use std::process::ExitCode;
+
+/// Camera 5 up and 12 back, pitched down to look at the origin (13 away).
+const EYE_Y: f32 = 5.0;
+const EYE_Z: f32 = 12.0;
+const FOG: [f32; 4] = [0.55, 0.65, 0.75, 1.0];
+
+struct Legacy {
+    /// Outer list; it calls the inner `pyramid` list several times.
+    cluster: u32,
+}
+
+unsafe fn pyramid(gl: &Gl) {
+    let apex = [0.0, 1.0, 0.0];
+    let base = [[-0.5, 0.0, -0.5], [0.5, 0.0, -0.5], [0.5, 0.0, 0.5], [-0.5, 0.0, 0.5]];
+    let colours = [[1.0, 0.3, 0.2], [0.2, 0.9, 0.3], [0.2, 0.4, 1.0], [1.0, 0.9, 0.2]];
+    unsafe {
+        gl.Begin(gl::TRIANGLES);
+        for k in 0..4 {
+            let (a, b) = (base[k], base[(k + 1) % 4]);
+            let mid = [(a[0] + b[0]) / 2.0, 0.5, (a[2] + b[2]) / 2.0];
+            gl.Normal3f(mid[0], mid[1], mid[2]);
+            gl.Color3f(colours[k][0], colours[k][1], colours[k][2]);
+            for p in [a, b, apex] {
+                gl.Vertex3f(p[0], p[1], p[2]);
+            }
+        }
+        gl.End();
+    }
+}
+
+impl Legacy {
+    fn new(gl: &Gl) -> Result<Self, String> {
+        unsafe {
+            let base = gl.GenLists(2);
+            if base == 0 {
+                return Err("glGenLists failed".into());
+            }
+            gl.NewList(base, gl::COMPILE);
+            pyramid(gl);
+            gl.EndList();
+            gl.NewList(base + 1, gl::COMPILE);
+            for k in 0..6 {
+                let a = k as f32 * 60.0;
+                gl.PushMatrix();
+                gl.Rotatef(a, 0.0, 1.0, 0.0);
+                gl.Translatef(3.0, 0.0, 0.0);
+                gl.Rotatef(a * 2.0, 0.0, 1.0, 0.0);
+                gl.Scalef(1.0, 1.0 + (k % 3) as f32 * 0.6, 1.0);
+                gl.CallList(base);
+                gl.PopMatrix();
+            }
+            gl.EndList();
+            Ok(Legacy { cluster: base + 1 })
+        }
+    }
+
+    unsafe fn projection(gl: &Gl, v: &View) {
+        let top = 0.1 * (22.5f32).to_radians().tan();
+        let right = top * v.aspect();
+        unsafe {
+            gl.MatrixMode(gl::PROJECTION);
+            gl.LoadIdentity();
+            gl.Frustum(-right as f64, right as f64, -top as f64, top as f64, 0.1, 100.0);
+            if v.shear.is_some() {
+                // Reference quilt: replace the frustum by its sheared version.
+                let mut p = [0f32; 16];
+                gl.GetFloatv(gl::PROJECTION_MATRIX, p.as_mut_ptr());
+                gl.LoadMatrixf(v.projection(p).as_ptr());
+            }
+        }
+    }
+
+    unsafe fn setup_world(gl: &Gl) {
+        unsafe {
+            gl.MatrixMode(gl::MODELVIEW);
+            gl.LoadIdentity();
+            gl.Rotatef(EYE_Y.atan2(EYE_Z).to_degrees(), 1.0, 0.0, 0.0);
+            gl.Translatef(0.0, -EYE_Y, -EYE_Z);
+            gl.Enable(gl::DEPTH_TEST);
+            gl.Enable(gl::LIGHTING);
+            gl.Enable(gl::LIGHT0);
+            gl.Enable(gl::NORMALIZE);
+            gl.Enable(gl::COLOR_MATERIAL);
+            gl.Lightfv(gl::LIGHT0, gl::POSITION, [0.5, 1.0, 0.7, 0.0].as_ptr());
+            gl.Enable(gl::FOG);
+            gl.Fogi(gl::FOG_MODE, gl::LINEAR as i32);
+            gl.Fogf(gl::FOG_START, 10.0);
+            gl.Fogf(gl::FOG_END, 35.0);
+            gl.Fogfv(gl::FOG_COLOR, FOG.as_ptr());
+        }
+    }
+
+    /// Checkerboard floor far enough back for the fog to show.
+    unsafe fn floor(gl: &Gl) {
+        unsafe {
+            gl.Begin(gl::QUADS);
+            gl.Normal3f(0.0, 1.0, 0.0);
+            for i in -12..12 {
+                for j in -20..8 {
+                    let c = if (i + j) % 2 == 0 { 0.8 } else { 0.3 };
+                    gl.Color3f(c, c, c * 0.9);
+                    let (x, z) = (i as f32 * 1.5, j as f32 * 1.5);
+                    gl.Vertex3f(x, 0.0, z);
+                    gl.Vertex3f(x, 0.0, z + 1.5);
+                    gl.Vertex3f(x + 1.5, 0.0, z + 1.5);
+                    gl.Vertex3f(x + 1.5, 0.0, z);
+                }
+            }
+            gl.End();
+        }
+    }
+
+    unsafe fn hud(gl: &Gl, v: &View, t: f32) {
+        let (w, h) = v.size();
+        unsafe {
+            gl.Disable(gl::LIGHTING);
+            gl.Disable(gl::FOG);
+            gl.Disable(gl::DEPTH_TEST);
+            gl.MatrixMode(gl::PROJECTION);
+            gl.LoadIdentity();
+            gl.Ortho(0.0, w as f64, 0.0, h as f64, -1.0, 1.0);
+            gl.MatrixMode(gl::MODELVIEW);
+            gl.LoadIdentity();
+            let bars = [[0.9, 0.2, 0.2], [0.2, 0.8, 0.2], [0.2, 0.4, 0.9]];
+            for (k, c) in bars.iter().enumerate() {
+                let len = (0.2 + 0.15 * (t * (k + 1) as f32).sin().abs()) * w;
+                let y = h - 20.0 - k as f32 * 16.0;
+                gl.Color3f(c[0], c[1], c[2]);
+                gl.Rectf(10.0, y, 10.0 + len, y + 10.0);
+            }
+            gl.Color3f(1.0, 1.0, 1.0);
+            gl.Rectf(w - 40.0, 10.0, w - 10.0, 40.0);
+        }
+    }
+}
+
+impl Scene for Legacy {
+    fn render(&mut self, gl: &Gl, frame: u64, v: &View) {
+        let t = seconds(frame);
+        unsafe {
+            gl.Viewport(v.viewport[0], v.viewport[1], v.viewport[2], v.viewport[3]);
+            gl.ClearColor(FOG[0], FOG[1], FOG[2], FOG[3]);
+            gl.Clear(gl::COLOR_BUFFER_BIT | gl::DEPTH_BUFFER_BIT);
+            Self::projection(gl, v);
+            Self::setup_world(gl);
+            Self::floor(gl);
+            gl.PushMatrix();
+            gl.Rotatef(t * 30.0, 0.0, 1.0, 0.0);
+            gl.CallList(self.cluster);
+            gl.PopMatrix();
+            // A spinning immediate-mode pyramid in the centre.
+            gl.PushMatrix();
+            gl.Translatef(0.0, 0.5, 0.0);
+            gl.Rotatef(t * -90.0, 0.0, 1.0, 0.0);
+            gl.Scalef(1.5, 2.0, 1.5);
+            pyramid(gl);
+            gl.PopMatrix();
+            Self::hud(gl, v, t);
+        }
+    }
+}
+
+fn main() -> ExitCode {
+    let info = AppInfo {
+        name: "legacy",
+        about: "OpenGL 1.x fixed-function scene: immediate mode, display lists, fog, lighting, glOrtho HUD",
+        default_convergence: (EYE_Y * EYE_Y + EYE_Z * EYE_Z).sqrt(),
+        extra: &[],
+    };
+    holoapps::run::main(
+        &info,
+        Profile::Legacy,
+        Box::new(|gl: &Gl, _: &Options| Ok(Box::new(Legacy::new(gl)?) as Box<dyn Scene>)),
+    )
+}

@@ -1,0 +1,147 @@
+//! Hand-rolled CLI shared by every app (no clap: the flag set is tiny).
+use std::collections::HashMap;
+use std::path::PathBuf;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Backend {
+    Glx,
+    Egl,
+    EglX11,
+    OsMesa,
+}
+
+impl Backend {
+    fn parse(s: &str) -> Result<Self, String> {
+        Ok(match s {
+            "glx" => Backend::Glx,
+            "egl" => Backend::Egl,
+            "egl-x11" => Backend::EglX11,
+            "osmesa" => Backend::OsMesa,
+            _ => return Err(format!("unknown backend '{s}' (glx|egl|egl-x11|osmesa)")),
+        })
+    }
+}
+
+/// What an app tells the CLI about itself.
+pub struct AppInfo {
+    pub name: &'static str,
+    pub about: &'static str,
+    pub default_convergence: f32,
+    /// Extra value flags: (name without dashes, default, help).
+    pub extra: &'static [(&'static str, &'static str, &'static str)],
+}
+
+#[derive(Debug, Clone)]
+pub struct Options {
+    pub backend: Backend,
+    pub size: (u32, u32),
+    pub frames: u64,
+    pub screenshot: Option<PathBuf>,
+    pub quilt: Option<(u32, u32)>,
+    pub tile: (u32, u32),
+    pub depthiness: f32,
+    pub convergence: f32,
+    pub focus: f32,
+    pub out: Option<PathBuf>,
+    pub extra: HashMap<String, String>,
+}
+
+impl Options {
+    pub fn extra_u64(&self, name: &str) -> Result<u64, String> {
+        let v = &self.extra[name];
+        v.parse()
+            .map_err(|_| format!("--{name}: expected an integer, got '{v}'"))
+    }
+}
+
+fn parse_pair(flag: &str, v: &str) -> Result<(u32, u32), String> {
+    let bad = || format!("{flag}: expected AxB with integers in 1..=16384, got '{v}'");
+    let (a, b) = v.split_once(['x', 'X']).ok_or_else(bad)?;
+    let (a, b) = (
+        a.parse::<u32>().map_err(|_| bad())?,
+        b.parse::<u32>().map_err(|_| bad())?,
+    );
+    // 16384 is the largest texture/renderbuffer size llvmpipe supports.
+    if a == 0 || b == 0 || a > 16384 || b > 16384 {
+        return Err(bad());
+    }
+    Ok((a, b))
+}
+
+fn parse_num<T: std::str::FromStr>(flag: &str, v: &str) -> Result<T, String> {
+    v.parse().map_err(|_| format!("{flag}: invalid number '{v}'"))
+}
+
+pub fn usage(app: &AppInfo) -> String {
+    let mut s = format!(
+        "{name} - {about}\n\nUSAGE: {name} [OPTIONS]\n\n\
+         --backend B            glx | egl | egl-x11 | osmesa (default glx)\n\
+         --size WxH             window / framebuffer size (default 640x480)\n\
+         --frames N             render N frames then exit (default 0 = until killed)\n\
+         --screenshot PATH      PNG of the last frame's default framebuffer\n\
+         --reference-quilt CxR  also render a CxR reference quilt of the last frame\n\
+         --tile WxH             quilt tile size (default = --size)\n\
+         --depthiness S         shear strength (default 0.1)\n\
+         --convergence C        eye-space convergence distance (default {conv})\n\
+         --focus F              extra horizontal shift (default 0)\n\
+         --out PATH             quilt PNG path (required with --reference-quilt)\n",
+        name = app.name,
+        about = app.about,
+        conv = app.default_convergence
+    );
+    for (n, d, h) in app.extra {
+        s += &format!("  --{n:<20} {h} (default {d})\n");
+    }
+    s + "  --help                 this text\n"
+}
+
+/// Ok(None) means --help was printed.
+pub fn parse(args: &[String], app: &AppInfo) -> Result<Option<Options>, String> {
+    let mut o = Options {
+        backend: Backend::Glx,
+        size: (640, 480),
+        frames: 0,
+        screenshot: None,
+        quilt: None,
+        tile: (0, 0),
+        depthiness: 0.1,
+        convergence: app.default_convergence,
+        focus: 0.0,
+        out: None,
+        extra: app
+            .extra
+            .iter()
+            .map(|(n, d, _)| (n.to_string(), d.to_string()))
+            .collect(),
+    };
+    let mut tile = None;
+    let mut it = args.iter();
+    while let Some(flag) = it.next() {
+        if flag == "--help" || flag == "-h" {
+            print!("{}", usage(app));
+            return Ok(None);
+        }
+        let val = it.next().ok_or_else(|| format!("{flag} needs a value"))?;
+        match flag.as_str() {
+            "--backend" => o.backend = Backend::parse(val)?,
+            "--size" => o.size = parse_pair(flag, val)?,
+            "--frames" => o.frames = parse_num(flag, val)?,
+            "--screenshot" => o.screenshot = Some(val.into()),
+            "--reference-quilt" => o.quilt = Some(parse_pair(flag, val)?),
+            "--tile" => tile = Some(parse_pair(flag, val)?),
+            "--depthiness" => o.depthiness = parse_num(flag, val)?,
+            "--convergence" => o.convergence = parse_num(flag, val)?,
+            "--focus" => o.focus = parse_num(flag, val)?,
+            "--out" => o.out = Some(val.into()),
+            f => match f.strip_prefix("--").filter(|n| o.extra.contains_key(*n)) {
+                Some(n) => _ = o.extra.insert(n.to_string(), val.clone()),
+                None => return Err(format!("unknown option '{f}' (see --help)")),
+            },
+        }
+    }
+    o.tile = tile.unwrap_or(o.size);
+    if o.quilt.is_some() && o.out.is_none() {
+        return Err("--reference-quilt requires --out PATH".into());
+    }
+    Ok(Some(o))
+}

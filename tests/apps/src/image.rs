@@ -1,0 +1,51 @@
+//! Framebuffer read-back and PNG output.
+use crate::gl::{self, Gl};
+use std::path::Path;
+
+/// Reads the bound read framebuffer as RGBA and returns top-down RGB rows.
+pub fn read_rgb(gl: &Gl, w: u32, h: u32) -> Vec<u8> {
+    let mut rgba = vec![0u8; w as usize * h as usize * 4];
+    unsafe {
+        gl.PixelStorei(gl::PACK_ALIGNMENT, 1);
+        gl.ReadPixels(
+            0,
+            0,
+            w as i32,
+            h as i32,
+            gl::RGBA,
+            gl::UNSIGNED_BYTE,
+            rgba.as_mut_ptr().cast(),
+        );
+    }
+    let row = w as usize * 4;
+    let mut rgb = Vec::with_capacity(w as usize * h as usize * 3);
+    // GL rows start at the bottom; PNG rows at the top.
+    for r in rgba.chunks_exact(row).rev() {
+        for px in r.chunks_exact(4) {
+            rgb.extend_from_slice(&px[..3]);
+        }
+    }
+    rgb
+}
+
+/// Screenshot of the default framebuffer, from the buffer being drawn to
+/// (GL_BACK for double-buffered windows, GL_FRONT/BACK for pbuffers).
+pub fn read_default_framebuffer(gl: &Gl, w: u32, h: u32) -> Vec<u8> {
+    unsafe {
+        gl.BindFramebuffer(gl::FRAMEBUFFER, 0);
+        let mut buf = 0;
+        gl.GetIntegerv(gl::DRAW_BUFFER, &mut buf);
+        gl.ReadBuffer(buf as u32);
+    }
+    read_rgb(gl, w, h)
+}
+
+pub fn write_png(path: &Path, w: u32, h: u32, rgb: &[u8]) -> Result<(), String> {
+    let err = |e: &dyn std::fmt::Display| format!("writing {}: {e}", path.display());
+    let file = std::fs::File::create(path).map_err(|e| err(&e))?;
+    let mut enc = png::Encoder::new(std::io::BufWriter::new(file), w, h);
+    enc.set_color(png::ColorType::Rgb);
+    enc.set_depth(png::BitDepth::Eight);
+    let mut wr = enc.write_header().map_err(|e| err(&e))?;
+    wr.write_image_data(rgb).map_err(|e| err(&e))
+}

@@ -1,0 +1,130 @@
+//! Shared main loop: CLI, back-end, frame loop, screenshot, quilt, timing.
+use crate::cli::{self, AppInfo, Options};
+use crate::gl::{self, Gl};
+use crate::platform::{self, Platform, Profile};
+use crate::scene::{Scene, View};
+use crate::{image, quilt};
+use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
+
+static STOP: AtomicBool = AtomicBool::new(false);
+
+extern "C" fn on_signal(_: libc::c_int) {
+    STOP.store(true, Ordering::SeqCst);
+}
+
+/// With --frames 0 the app runs until killed; exit cleanly on SIGINT/SIGTERM
+/// so `finish` (e.g. the asteroids timing line) still runs.
+fn install_signal_handlers() {
+    let handler: extern "C" fn(libc::c_int) = on_signal;
+    unsafe {
+        libc::signal(libc::SIGINT, handler as libc::sighandler_t);
+        libc::signal(libc::SIGTERM, handler as libc::sighandler_t);
+    }
+}
+
+pub type MakeScene = dyn FnOnce(&Gl, &Options) -> Result<Box<dyn Scene>, String>;
+
+/// Entry point for every app binary.
+pub fn main(app: &AppInfo, profile: Profile, make: Box<MakeScene>) -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let result = cli::parse(&args, app).and_then(|o| match o {
+        Some(o) => run(&o, profile, make),
+        None => Ok(()),
+    });
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(1)
+        }
+    }
+}
+
+fn load_gl(p: &dyn Platform) -> Result<Gl, String> {
+    let gl = Gl::load_with(|name| p.get_proc_address(name));
+    if !gl.GetString.is_loaded() || !gl.Clear.is_loaded() {
+        return Err(format!("{}: basic GL entry points could not be loaded", p.describe()));
+    }
+    if std::env::var_os("HOLOAPPS_VERBOSE").is_some() {
+        let s = |e| unsafe {
+            std::ffi::CStr::from_ptr(gl.GetString(e).cast())
+                .to_string_lossy()
+                .into_owned()
+        };
+        let (mut d, mut st) = (0, 0);
+        unsafe {
+            gl.GetFramebufferAttachmentParameteriv(
+                gl::FRAMEBUFFER,
+                gl::DEPTH,
+                gl::FRAMEBUFFER_ATTACHMENT_DEPTH_SIZE,
+                &mut d,
+            );
+            gl.GetFramebufferAttachmentParameteriv(
+                gl::FRAMEBUFFER,
+                gl::STENCIL,
+                gl::FRAMEBUFFER_ATTACHMENT_STENCIL_SIZE,
+                &mut st,
+            );
+        }
+        eprintln!(
+            "{}: {} / {} (depth {d}, stencil {st})",
+            p.describe(),
+            s(gl::RENDERER),
+            s(gl::VERSION)
+        );
+    }
+    Ok(gl)
+}
+
+fn check_gl_error(gl: &Gl, when: &str) {
+    let e = unsafe { gl.GetError() };
+    if e != gl::NO_ERROR {
+        eprintln!("warning: GL error 0x{e:04X} {when}");
+    }
+}
+
+fn run(o: &Options, profile: Profile, make: Box<MakeScene>) -> Result<(), String> {
+    let mut plat = platform::create(o.backend, o.size, profile)?;
+    let gl = load_gl(plat.as_ref())?;
+    let mut scene = make(&gl, o)?;
+    install_signal_handlers();
+    let (w, h) = plat.size();
+    let normal = View {
+        viewport: [0, 0, w as i32, h as i32],
+        shear: None,
+    };
+    // Reference mode needs a frame to take the quilt of, even with --frames 0.
+    let last = match (o.frames, o.quilt.is_some() || o.screenshot.is_some()) {
+        (0, true) => Some(0),
+        (0, false) => None,
+        (n, _) => Some(n - 1),
+    };
+    let mut times = Vec::new();
+    let mut frame = 0u64;
+    while !STOP.load(Ordering::SeqCst) && last.is_none_or(|l| frame <= l) {
+        let start = Instant::now();
+        scene.render(&gl, frame, &normal);
+        let mut elapsed = start.elapsed();
+        if frame == 0 {
+            check_gl_error(&gl, "after the first frame");
+        }
+        if Some(frame) == last {
+            if let Some(path) = &o.screenshot {
+                image::write_png(path, w, h, &image::read_default_framebuffer(&gl, w, h))?;
+            }
+            if o.quilt.is_some() {
+                quilt::render(&gl, scene.as_mut(), frame, o)?;
+                check_gl_error(&gl, "after the quilt pass");
+            }
+        }
+        let start = Instant::now();
+        plat.end_frame();
+        elapsed += start.elapsed();
+        times.push(elapsed.as_secs_f64() * 1000.0);
+        frame += 1;
+    }
+    scene.finish(&times);
+    Ok(())
+}
