@@ -107,13 +107,8 @@ pub fn draw(gl: &Gl, mv: &mut Multiview, group: &ShareGroup, f: impl Fn()) {
     let shift = shift_for(gl, mv, group);
     // SAFETY: viewport, scissor, uniform and projection changes below are all restored.
     let scissored = unsafe { gl.IsEnabled(SCISSOR_TEST) } != 0;
-    let _mode_guard = matches!(shift, Shift::Projection(_)).then(|| crate::gl::guard::StateGuard::new(gl, mv.info).matrix_mode());
-    unsafe {
-        gl.Enable(SCISSOR_TEST);
-        if let Shift::Projection(_) = shift {
-            gl.MatrixMode(PROJECTION);
-        }
-    }
+    let app_matrix_mode = matches!(shift, Shift::Projection(_)).then(|| crate::gl::guard::get_i(gl, MATRIX_MODE) as u32);
+    unsafe { gl.Enable(SCISSOR_TEST) };
     for i in 0..layout.views() {
         let vp = layout.map_rect(i, mv.app.viewport);
         let tile = layout.tile_rect(i);
@@ -124,18 +119,30 @@ pub fn draw(gl: &Gl, mv: &mut Multiview, group: &ShareGroup, f: impl Fn()) {
         }
         match shift {
             Shift::Uniform { loc, mode } => set_view_uniform(gl, mv, loc, i, mode),
-            Shift::Projection(p) => load_sheared(gl, mv, i, &p),
+            Shift::Projection(p) => load_projection(gl, &sheared(mv, i, &p), app_matrix_mode),
             Shift::None => {}
         }
         f();
     }
+    if let Shift::Projection(p) = shift {
+        load_projection(gl, &p, app_matrix_mode);
+    }
     restore(gl, mv, scissored, &shift, group);
 }
 
-fn load_sheared(gl: &Gl, mv: &Multiview, i: u32, p: &[f32; 16]) {
-    let sheared = mv.rig.shear(i, &p.map(f64::from)).map(|v| v as f32);
-    // SAFETY: GL_PROJECTION is the current matrix mode inside the replay loop.
-    unsafe { gl.LoadMatrixf(sheared.as_ptr()) };
+fn sheared(mv: &Multiview, i: u32, p: &[f32; 16]) -> [f32; 16] {
+    mv.rig.shear(i, &p.map(f64::from)).map(|v| v as f32)
+}
+
+/// Loads `m` as the projection and returns to the app's matrix mode: the draw itself (a
+/// display list, say) may push and multiply whatever matrix the app had selected.
+fn load_projection(gl: &Gl, m: &[f32; 16], app_mode: Option<u32>) {
+    // SAFETY: compatibility-context matrix calls; the app's mode is put back.
+    unsafe {
+        gl.MatrixMode(PROJECTION);
+        gl.LoadMatrixf(m.as_ptr());
+        gl.MatrixMode(app_mode.unwrap_or(MODELVIEW));
+    }
 }
 
 fn restore(gl: &Gl, mv: &Multiview, scissored: bool, shift: &Shift, group: &ShareGroup) {
@@ -146,9 +153,6 @@ fn restore(gl: &Gl, mv: &Multiview, scissored: bool, shift: &Shift, group: &Shar
         gl.Scissor(s[0], s[1], s[2], s[3]);
         if !scissored {
             gl.Disable(SCISSOR_TEST);
-        }
-        if let Shift::Projection(p) = shift {
-            gl.LoadMatrixf(p.as_ptr());
         }
     }
     if let Shift::Uniform { .. } = shift {

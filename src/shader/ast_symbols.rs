@@ -4,8 +4,8 @@
 use std::collections::HashMap;
 
 use glsl_lang::ast::{
-    self, DeclarationData, ExternalDeclarationData, StorageQualifierData, StructFieldSpecifier,
-    TypeQualifierSpecData, TypeSpecifierNonArrayData,
+    self, DeclarationData, ExternalDeclarationData, StorageQualifierData, StructFieldSpecifier, TypeQualifierSpecData,
+    TypeSpecifierNonArrayData,
 };
 
 /// A global name (or a member reachable through `.`).
@@ -54,10 +54,10 @@ impl<'a> Program<'a> {
 
     fn init_list(&mut self, list: &ast::InitDeclaratorList) {
         let head = &list.head;
-        if let TypeSpecifierNonArrayData::Struct(spec) = &*head.ty.ty.ty {
-            if let Some(name) = &spec.name {
-                self.structs.insert(name.as_str().to_string(), spec.fields.clone());
-            }
+        if let TypeSpecifierNonArrayData::Struct(spec) = &*head.ty.ty.ty
+            && let Some(name) = &spec.name
+        {
+            self.structs.insert(name.as_str().to_string(), spec.fields.clone());
         }
         let quals = Qualifiers::of(head.ty.qualifier.as_ref());
         let array = head.ty.ty.array_specifier.is_some();
@@ -92,7 +92,12 @@ impl<'a> Program<'a> {
         }
         match instance {
             Some(inst) => {
-                let sym = Sym { uniform: quals.uniform, gl_name: inst.clone(), members, ..Sym::default() };
+                let sym = Sym {
+                    uniform: quals.uniform,
+                    gl_name: inst.clone(),
+                    members,
+                    ..Sym::default()
+                };
                 self.globals.insert(inst, sym);
             }
             None => self.globals.extend(members),

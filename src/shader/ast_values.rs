@@ -1,8 +1,11 @@
 //! What a GLSL value is made of, as far as the camera is concerned.
 
 /// Compatibility-profile matrices that carry a camera transform.
-pub const BUILTIN_MATRICES: [&str; 3] =
-    ["gl_ModelViewProjectionMatrix", "gl_ProjectionMatrix", "gl_ModelViewMatrix"];
+pub const BUILTIN_MATRICES: [&str; 3] = [
+    "gl_ModelViewProjectionMatrix",
+    "gl_ProjectionMatrix",
+    "gl_ModelViewMatrix",
+];
 
 #[derive(Clone, Debug, Default)]
 pub struct Info {
@@ -27,15 +30,25 @@ impl Info {
     }
 
     pub fn constant() -> Info {
-        Info { constant: true, ..Info::default() }
+        Info {
+            constant: true,
+            ..Info::default()
+        }
     }
 
     pub fn unknown() -> Info {
-        Info { unknown: true, ..Info::default() }
+        Info {
+            unknown: true,
+            ..Info::default()
+        }
     }
 
     pub fn matrix(gl_name: &str) -> Info {
-        Info { matrices: vec![gl_name.to_string()], is_mat4: true, ..Info::default() }
+        Info {
+            matrices: vec![gl_name.to_string()],
+            is_mat4: true,
+            ..Info::default()
+        }
     }
 
     /// The same value used as an operand: a swizzle or index result is no longer "far" and

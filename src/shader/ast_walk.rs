@@ -8,9 +8,8 @@
 use std::collections::HashMap;
 
 use glsl_lang::ast::{
-    self, AssignmentOpData, BinaryOpData, DeclarationData, ExprData, ForInitStatementData,
-    FunIdentifierData, IterationStatementData, JumpStatementData, SelectionRestStatementData,
-    StatementData,
+    self, AssignmentOpData, BinaryOpData, DeclarationData, ExprData, ForInitStatementData, FunIdentifierData,
+    IterationStatementData, JumpStatementData, SelectionRestStatementData, StatementData,
 };
 
 use super::PositionKind;
@@ -49,7 +48,15 @@ struct Scope<'p, 'a> {
 impl<'p, 'a> Scope<'p, 'a> {
     fn new(prog: &'p Program<'a>, record: bool, depth: usize) -> Self {
         let env = HashMap::new();
-        Scope { prog, env, writes: Vec::new(), writes_layer: false, returns: Vec::new(), record, depth }
+        Scope {
+            prog,
+            env,
+            writes: Vec::new(),
+            writes_layer: false,
+            returns: Vec::new(),
+            record,
+            depth,
+        }
     }
 
     fn walk_compound(&mut self, stmts: &[ast::Statement]) {
@@ -103,7 +110,9 @@ impl<'p, 'a> Scope<'p, 'a> {
     }
 
     fn declare(&mut self, decl: &ast::Declaration) {
-        let DeclarationData::InitDeclaratorList(list) = &**decl else { return };
+        let DeclarationData::InitDeclaratorList(list) = &**decl else {
+            return;
+        };
         let mat = is_mat4(&list.head.ty.ty.ty);
         let head = list.head.name.as_ref().map(|n| (n, list.head.initializer.as_ref()));
         let tail = list.tail.iter().map(|t| (&t.ident.ident, t.initializer.as_ref()));
@@ -285,9 +294,7 @@ impl<'p, 'a> Scope<'p, 'a> {
     /// local shadows its root.
     fn resolve(&self, e: &ast::Expr) -> Option<&'p Sym> {
         match &**e {
-            ExprData::Variable(id) if !self.env.contains_key(id.as_str()) => {
-                self.prog.globals.get(id.as_str())
-            }
+            ExprData::Variable(id) if !self.env.contains_key(id.as_str()) => self.prog.globals.get(id.as_str()),
             ExprData::Bracket(a, _) => self.resolve(a).filter(|s| s.is_array),
             ExprData::Dot(a, f) => self.resolve(a)?.members.get(f.as_str()),
             _ => None,
@@ -299,7 +306,10 @@ fn sym_info(sym: &Sym) -> Info {
     match (sym.uniform, sym.is_mat4, sym.constant) {
         (true, true, _) => Info::matrix(&sym.gl_name),
         (_, _, true) => Info::constant(),
-        (_, true, _) => Info { is_mat4: true, ..Info::data() },
+        (_, true, _) => Info {
+            is_mat4: true,
+            ..Info::data()
+        },
         _ => Info::data(),
     }
 }

@@ -37,12 +37,12 @@ mod ast_symbols;
 mod ast_values;
 mod ast_walk;
 mod rewrite;
-mod text;
-mod text_scan;
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
 mod tests_lines;
+mod text;
+mod text_scan;
 
 pub use analyse::{analyse, parse_error};
 pub use rewrite::rewrite;

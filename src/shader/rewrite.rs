@@ -47,9 +47,7 @@ fn rewrite_main(source: &str, blanked: &str, dirs: &[Directive]) -> Result<Strin
     }
     let version = text::version(dirs);
     let (offset, next_line) = match version {
-        Some((_, line)) => {
-            text::offset_after_line(source, line).ok_or("no code after #version")?
-        }
+        Some((_, line)) => text::offset_after_line(source, line).ok_or("no code after #version")?,
         None => (0, 0),
     };
     let head = format!(
@@ -65,7 +63,11 @@ fn rewrite_main(source: &str, blanked: &str, dirs: &[Directive]) -> Result<Strin
 fn rewrite_geometry(source: &str, blanked: &str, dirs: &[Directive]) -> String {
     let version = text::version(dirs);
     // No non-preprocessor token may precede an #extension: our prototypes go after the last.
-    let anchor = dirs.iter().filter(|d| d.name == "extension").map(|d| d.line).last();
+    let anchor = dirs
+        .iter()
+        .filter(|d| d.name == "extension")
+        .map(|d| d.line)
+        .next_back();
     let anchor = anchor.or(version.map(|v| v.1));
     let anchor = anchor.map(|line| text::line_after_conditionals(dirs, line));
     let (offset, next_line) = anchor
@@ -128,5 +130,7 @@ fn defines_main(blanked: &str) -> bool {
 }
 
 fn first_word(s: &str) -> &str {
-    s.split(|c: char| !c.is_ascii_alphanumeric() && c != '_').next().unwrap_or("")
+    s.split(|c: char| !c.is_ascii_alphanumeric() && c != '_')
+        .next()
+        .unwrap_or("")
 }

@@ -29,7 +29,14 @@ struct Case {
 }
 
 const fn ok(file: &'static str, kind: PositionKind, matrices: &'static [&'static str]) -> Case {
-    Case { file, kind, matrices, parsed: true, refused: None, profile: Profile::Default }
+    Case {
+        file,
+        kind,
+        matrices,
+        parsed: true,
+        refused: None,
+        profile: Profile::Default,
+    }
 }
 
 const P: &str = "projection";
@@ -39,16 +46,32 @@ fn cases() -> Vec<Case> {
     vec![
         ok("comments_mention_main.vert", MatrixMultiply, &["mvp"]),
         ok("compat_120_ftransform.vert", MatrixMultiply, &[MVP]),
-        ok("compat_130_builtins.vert", MatrixMultiply, &["gl_ProjectionMatrix", "gl_ModelViewMatrix"]),
-        ok("compat_150_compatibility.vert", MatrixMultiply, &["gl_ProjectionMatrix", "gl_ModelViewMatrix"]),
+        ok(
+            "compat_130_builtins.vert",
+            MatrixMultiply,
+            &["gl_ProjectionMatrix", "gl_ModelViewMatrix"],
+        ),
+        ok(
+            "compat_150_compatibility.vert",
+            MatrixMultiply,
+            &["gl_ProjectionMatrix", "gl_ModelViewMatrix"],
+        ),
         ok("constant_point_330.vert", Constant, &[]),
         ok("core460_anonymous_ubo.vert", MatrixMultiply, &[P, "view", "model"]),
-        ok("core460_instanced_ubo_struct.vert", MatrixMultiply, &["Transforms.proj", "Transforms.view", "obj.model"]),
+        ok(
+            "core460_instanced_ubo_struct.vert",
+            MatrixMultiply,
+            &["Transforms.proj", "Transforms.view", "obj.model"],
+        ),
         ok("core_140.vert", MatrixMultiply, &["mvp"]),
         ok("es100_attribute_precision.vert", MatrixMultiply, &["u_mvpMatrix"]),
         ok("es100_version100.vert", MatrixMultiply, &["uPMatrix", "uMVMatrix"]),
         ok("es2gears.vert", MatrixMultiply, &["ModelViewProjectionMatrix"]),
-        ok("es300_model_view_proj.vert", MatrixMultiply, &["u_projection", "u_view", "u_model"]),
+        ok(
+            "es300_model_view_proj.vert",
+            MatrixMultiply,
+            &["u_projection", "u_view", "u_model"],
+        ),
         ok("es310_ubo.vert", MatrixMultiply, &["Camera.viewProj", "model"]),
         ok("es320_geometry_ext.geom", MatrixMultiply, &["u_viewProj"]),
         ok("es320_mvp.vert", MatrixMultiply, &["mvp"]),
@@ -67,21 +90,49 @@ fn cases() -> Vec<Case> {
         ok("glmark2_effect_2d.vert", Identity, &[]),
         ok("glmark2_ideas_paper.vert", MatrixMultiply, &[P, "modelview"]),
         ok("glmark2_jellyfish.vert", MatrixMultiply, &["uWorldViewProj"]),
-        ok("glmark2_light_basic.vert", MatrixMultiply, &["ModelViewProjectionMatrix"]),
+        ok(
+            "glmark2_light_basic.vert",
+            MatrixMultiply,
+            &["ModelViewProjectionMatrix"],
+        ),
         ok("glmark2_shadow.vert", MatrixMultiply, &["ModelViewProjectionMatrix"]),
         // The displacement offset is built from the normal matrix, so it takes part too.
-        ok("glmark2_terrain.vert", MatrixMultiply, &["projectionMatrix", "normalMatrix", "modelViewMatrix"]),
+        ok(
+            "glmark2_terrain.vert",
+            MatrixMultiply,
+            &["projectionMatrix", "normalMatrix", "modelViewMatrix"],
+        ),
         ok("helper_function_330.vert", MatrixMultiply, &["u_viewProj", "u_model"]),
         ok("hud_ortho_330.vert", MatrixMultiply, &[P]),
-        Case { parsed: false, ..ok("identifiers_sample_flat_120.vert", MatrixMultiply, &["modelViewProjection"]) },
-        Case { profile: Profile::Both, ..ok("ifdef_gl_es.vert", MatrixMultiply, &["u_matrix"]) },
+        Case {
+            parsed: false,
+            ..ok(
+                "identifiers_sample_flat_120.vert",
+                MatrixMultiply,
+                &["modelViewProjection"],
+            )
+        },
+        Case {
+            profile: Profile::Both,
+            ..ok("ifdef_gl_es.vert", MatrixMultiply, &["u_matrix"])
+        },
         ok("learnopengl_330_core.vert", MatrixMultiply, &[P, "view", "model"]),
-        Case { profile: Profile::Desktop110, ..ok("legacy_110_noversion.vert", MatrixMultiply, &[MVP]) },
-        ok("main_void_120.vert", MatrixMultiply, &["projectionMatrix", "modelViewMatrix"]),
+        Case {
+            profile: Profile::Desktop110,
+            ..ok("legacy_110_noversion.vert", MatrixMultiply, &[MVP])
+        },
+        ok(
+            "main_void_120.vert",
+            MatrixMultiply,
+            &["projectionMatrix", "modelViewMatrix"],
+        ),
         ok("skybox_xyww_330.vert", FarPlane, &[P, "view"]),
         ok("tess_eval_400.tese", MatrixMultiply, &[P, "modelview"]),
         ok("tess_eval_passthrough_410.tese", Unknown, &[]),
-        Case { refused: Some("gl_Position"), ..ok("transform_feedback_only_330.vert", Unknown, &[]) },
+        Case {
+            refused: Some("gl_Position"),
+            ..ok("transform_feedback_only_330.vert", Unknown, &[])
+        },
         ok("version_after_comment.vert", MatrixMultiply, &["uMVP"]),
         // glsl-lang does not know the extension: text fallback.
         Case {
@@ -138,13 +189,20 @@ fn corpus_analysis_matches_expectations() {
         let src = std::fs::read_to_string(corpus_dir().join(case.file)).unwrap();
         let a = analyse(&src, stage_of(case.file));
         let got = (a.position_kind.clone(), a.matrix_uniforms.clone(), a.parsed);
-        let want = (case.kind.clone(), case.matrices.iter().map(|s| s.to_string()).collect(), case.parsed);
+        let want = (
+            case.kind.clone(),
+            case.matrices.iter().map(|s| s.to_string()).collect(),
+            case.parsed,
+        );
         if got != want {
             failures.push(format!("{}: got {got:?}, want {want:?}", case.file));
         }
         let writes = case.refused != Some("gl_Position");
         if a.writes_position != writes || a.writes_layer != (case.refused == Some("gl_Layer")) {
-            failures.push(format!("{}: writes_position/layer {}/{}", case.file, a.writes_position, a.writes_layer));
+            failures.push(format!(
+                "{}: writes_position/layer {}/{}",
+                case.file, a.writes_position, a.writes_layer
+            ));
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
@@ -179,7 +237,12 @@ fn rewriting_twice_is_refused() {
         let stage = stage_of(case.file);
         let once = rewrite(&src, &analyse(&src, stage)).unwrap();
         let twice = rewrite(&once, &analyse(&once, stage));
-        assert_eq!(twice, Err("already rewritten by holoinject".to_string()), "{}", case.file);
+        assert_eq!(
+            twice,
+            Err("already rewritten by holoinject".to_string()),
+            "{}",
+            case.file
+        );
     }
 }
 
@@ -205,5 +268,8 @@ fn non_rasterizing_stages_and_odd_sources_are_refused() {
     let err = rewrite(defines_main, &analyse(defines_main, Stage::Vertex)).unwrap_err();
     assert!(err.contains("#defines main"), "{err}");
     let no_main = "#version 330 core\nvoid f() { gl_Position = vec4(0.0); }\n";
-    assert_eq!(rewrite(no_main, &analyse(no_main, Stage::Vertex)), Err("no main()".to_string()));
+    assert_eq!(
+        rewrite(no_main, &analyse(no_main, Stage::Vertex)),
+        Err("no main()".to_string())
+    );
 }

@@ -9,9 +9,15 @@ const MARK: &str = "holoinject_test_undeclared";
 /// The line glslang blames for the undeclared marker identifier.
 fn error_line(name: &str, source: &str, profile: Profile) -> usize {
     let log = validate(name, source, profile).expect_err("the marker must not compile");
-    let line = log.lines().find(|l| l.contains(MARK)).unwrap_or_else(|| panic!("no marker error in:\n{log}"));
+    let line = log
+        .lines()
+        .find(|l| l.contains(MARK))
+        .unwrap_or_else(|| panic!("no marker error in:\n{log}"));
     // "ERROR: 0:LINE: 'holoinject_test_undeclared' : undeclared identifier"
-    line.split(':').nth(2).and_then(|n| n.trim().parse().ok()).unwrap_or_else(|| panic!("{line}"))
+    line.split(':')
+        .nth(2)
+        .and_then(|n| n.trim().parse().ok())
+        .unwrap_or_else(|| panic!("{line}"))
 }
 
 /// Puts the marker statement right after the line containing `after`; returns its 1-based line.
@@ -33,13 +39,33 @@ fn check_lines(name: &str, src: &str, after: &str, profile: Profile) {
 fn line_numbers_survive_for_every_version_style() {
     let body = "uniform mat4 mvp;\nattribute vec4 pos;\nvoid main()\n{\n    gl_Position = mvp * pos;\n}\n";
     // No #version: desktop 1.10 and ES 1.00 number `#line` differently; both must hold.
-    check_lines("noversion.vert", &format!("// leading comment\n\n{body}"), "{", Profile::Both);
+    check_lines(
+        "noversion.vert",
+        &format!("// leading comment\n\n{body}"),
+        "{",
+        Profile::Both,
+    );
     check_lines("v110.vert", &format!("#version 110\n{body}"), "{", Profile::Default);
-    check_lines("v120.vert", &format!("\n/* header\n */\n#version 120\n{body}"), "{", Profile::Default);
+    check_lines(
+        "v120.vert",
+        &format!("\n/* header\n */\n#version 120\n{body}"),
+        "{",
+        Profile::Default,
+    );
     check_lines("v100.vert", &format!("#version 100\n{body}"), "{", Profile::Default);
     let modern = "in vec4 pos;\nuniform mat4 mvp;\nvoid main()\n{\n    gl_Position = mvp * pos;\n}\n";
-    check_lines("v330.vert", &format!("// c\n#version 330 core\n{modern}"), "{", Profile::Default);
-    check_lines("v300es.vert", &format!("#version 300 es\n{modern}"), "{", Profile::Default);
+    check_lines(
+        "v330.vert",
+        &format!("// c\n#version 330 core\n{modern}"),
+        "{",
+        Profile::Default,
+    );
+    check_lines(
+        "v300es.vert",
+        &format!("#version 300 es\n{modern}"),
+        "{",
+        Profile::Default,
+    );
     check_lines("v460.vert", &format!("#version 460\n{modern}"), "{", Profile::Default);
     let comment_on_version = format!("#version 150 /* spans\n lines */\n{modern}");
     check_lines("v150c.vert", &comment_on_version, "{", Profile::Default);
@@ -88,7 +114,10 @@ fn centre_view_is_the_identity() {
         .collect();
     assert_eq!(writes, vec![format!("    {shift}")], "y, z and w must never be written");
     let early = "if (holoinject_view.x == 0.0 && holoinject_view.z == 0.0)\n        return holoinject_p;";
-    let (early_at, shift_at) = (patch.find(early).expect("centre early return"), patch.find(shift).unwrap());
+    let (early_at, shift_at) = (
+        patch.find(early).expect("centre early return"),
+        patch.find(shift).unwrap(),
+    );
     assert!(early_at < shift_at);
     assert!(patch.contains(&format!("uniform HOLOINJECT_HIGHP vec4 {VIEW_UNIFORM};")));
 }
@@ -97,7 +126,10 @@ fn centre_view_is_the_identity() {
 fn vertex_wrapper_shifts_after_the_app_main() {
     let src = "#version 330 core\nuniform mat4 m;\nin vec4 p;\nvoid main(void) { gl_Position = m * p; }\n";
     let out = rewrite(src, &analyse(src, Stage::Vertex)).unwrap();
-    assert!(out.starts_with("#version 330 core\n#define main holoinject_app_main\n#line 2\n"), "{out}");
+    assert!(
+        out.starts_with("#version 330 core\n#define main holoinject_app_main\n#line 2\n"),
+        "{out}"
+    );
     let tail = "void main()\n{\n    holoinject_app_main();\n    gl_Position = holoinject_shift(gl_Position);\n}\n";
     assert!(out.ends_with(tail), "{out}");
     assert!(out.contains("#undef main\n"));

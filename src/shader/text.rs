@@ -50,11 +50,17 @@ pub struct Directive {
 pub fn directives(blanked: &str) -> Vec<Directive> {
     let mut out = Vec::new();
     for (line, text) in blanked.lines().enumerate() {
-        let Some(body) = text.trim_start().strip_prefix('#') else { continue };
+        let Some(body) = text.trim_start().strip_prefix('#') else {
+            continue;
+        };
         let body = body.trim_start();
         let split = body.find(|c: char| !c.is_ascii_alphanumeric() && c != '_');
         let (name, rest) = body.split_at(split.unwrap_or(body.len()));
-        out.push(Directive { line, name: name.to_string(), rest: rest.trim().to_string() });
+        out.push(Directive {
+            line,
+            name: name.to_string(),
+            rest: rest.trim().to_string(),
+        });
     }
     out
 }
@@ -126,8 +132,7 @@ impl Token {
 }
 
 const TWO_CHAR_PUNCT: [&str; 19] = [
-    "==", "!=", "<=", ">=", "&&", "||", "^^", "++", "--", "+=", "-=", "*=", "/=", "%=", "&=",
-    "|=", "^=", "<<", ">>",
+    "==", "!=", "<=", ">=", "&&", "||", "^^", "++", "--", "+=", "-=", "*=", "/=", "%=", "&=", "|=", "^=", "<<", ">>",
 ];
 
 /// Tokens of the code, preprocessor lines excluded (macros are not expanded: a text-level view).

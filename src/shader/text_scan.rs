@@ -72,12 +72,18 @@ impl Class {
         for (i, tok) in rhs.iter().enumerate() {
             let Token::Ident(name) = tok else { continue };
             let after_dot = i > 0 && rhs[i - 1].is_punct(".");
-            let member = rhs.get(i + 2).filter(|_| rhs.get(i + 1).is_some_and(|t| t.is_punct(".")));
+            let member = rhs
+                .get(i + 2)
+                .filter(|_| rhs.get(i + 1).is_some_and(|t| t.is_punct(".")));
             if after_dot && !uniforms.contains_key(name) {
                 continue; // a swizzle or a member already handled with its instance
             }
             if name == "ftransform" || BUILTIN_MATRICES.contains(&name.as_str()) {
-                let gl = if name == "ftransform" { "gl_ModelViewProjectionMatrix" } else { name };
+                let gl = if name == "ftransform" {
+                    "gl_ModelViewProjectionMatrix"
+                } else {
+                    name
+                };
                 self.matrices.push(gl.to_string());
             } else if let Some(gl) = member_uniform(name, member, uniforms) {
                 self.matrices.push(gl);
@@ -121,9 +127,7 @@ fn ends_with_swizzle(rhs: &[Token], pred: impl Fn(&str) -> bool) -> bool {
 /// The assigned variable and the component written, from `name`, `type name`, `name.xy`.
 fn lvalue(lhs: &[Token]) -> Option<(String, Option<&str>)> {
     match lhs {
-        [.., Token::Ident(root), dot, Token::Ident(c)] if dot.is_punct(".") => {
-            Some((root.clone(), Some(c.as_str())))
-        }
+        [.., Token::Ident(root), dot, Token::Ident(c)] if dot.is_punct(".") => Some((root.clone(), Some(c.as_str()))),
         [.., Token::Ident(root)] => Some((root.clone(), None)),
         _ => None,
     }
@@ -133,8 +137,22 @@ fn is_type_keyword(name: &str) -> bool {
     let base = name.trim_end_matches(|c: char| c.is_ascii_digit() || c == 'x');
     matches!(
         base,
-        "vec" | "ivec" | "uvec" | "bvec" | "dvec" | "mat" | "dmat" | "float" | "int" | "uint"
-            | "bool" | "double" | "highp" | "mediump" | "lowp" | "const"
+        "vec"
+            | "ivec"
+            | "uvec"
+            | "bvec"
+            | "dvec"
+            | "mat"
+            | "dmat"
+            | "float"
+            | "int"
+            | "uint"
+            | "bool"
+            | "double"
+            | "highp"
+            | "mediump"
+            | "lowp"
+            | "const"
     )
 }
 
@@ -149,14 +167,20 @@ fn mat4_uniforms(toks: &[Token]) -> HashMap<String, String> {
             continue;
         }
         let mut j = i + 1;
-        while toks.get(j).is_some_and(|t| ["highp", "mediump", "lowp"].iter().any(|p| t.is_ident(p))) {
+        while toks
+            .get(j)
+            .is_some_and(|t| ["highp", "mediump", "lowp"].iter().any(|p| t.is_ident(p)))
+        {
             j += 1;
         }
         let Some(Token::Ident(ty)) = toks.get(j) else { break };
         if toks.get(j + 1).is_some_and(|t| t.is_punct("{")) {
             i = block_uniforms(toks, j, ty, &mut out);
         } else {
-            let end = toks[j..].iter().position(|t| t.is_punct(";")).map_or(toks.len(), |e| j + e);
+            let end = toks[j..]
+                .iter()
+                .position(|t| t.is_punct(";"))
+                .map_or(toks.len(), |e| j + e);
             if is_mat4_name(ty) {
                 for name in declared_names(&toks[j + 1..end]) {
                     out.insert(name.clone(), name);
@@ -171,13 +195,19 @@ fn mat4_uniforms(toks: &[Token]) -> HashMap<String, String> {
 /// Members of `uniform Block { ... } [instance];` starting at the block name; returns the
 /// index after the block.
 fn block_uniforms(toks: &[Token], at: usize, block: &str, out: &mut HashMap<String, String>) -> usize {
-    let close = toks[at..].iter().position(|t| t.is_punct("}")).map_or(toks.len(), |e| at + e);
+    let close = toks[at..]
+        .iter()
+        .position(|t| t.is_punct("}"))
+        .map_or(toks.len(), |e| at + e);
     let instance = match toks.get(close + 1) {
         Some(Token::Ident(inst)) => Some(inst.clone()),
         _ => None,
     };
     for field in toks[at + 2..close].split(|t| t.is_punct(";")) {
-        let Some(ty_at) = field.iter().position(|t| matches!(t, Token::Ident(n) if is_mat4_name(n))) else {
+        let Some(ty_at) = field
+            .iter()
+            .position(|t| matches!(t, Token::Ident(n) if is_mat4_name(n)))
+        else {
             continue;
         };
         for name in declared_names(&field[ty_at + 1..]) {
