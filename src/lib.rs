@@ -20,11 +20,11 @@
 //!   (`gl::readback::PixelStateGuard`).
 //! - Nothing on stdout; stderr only at `HOLOINJECT_LOG` level (default `warn`).
 
+pub mod camera;
 pub mod config;
 pub mod gl;
 pub mod hook;
 pub mod log;
-pub mod camera;
 pub mod multiview;
 pub mod output;
 pub mod shader;

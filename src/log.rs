@@ -45,9 +45,7 @@ pub fn level() -> Level {
     let parsed = if raw.is_null() {
         Some(Level::Warn)
     } else {
-        let s = unsafe { core::ffi::CStr::from_ptr(raw) }
-            .to_str()
-            .unwrap_or("");
+        let s = unsafe { core::ffi::CStr::from_ptr(raw) }.to_str().unwrap_or("");
         Level::parse(s)
     };
     if parsed.is_none() {

@@ -46,18 +46,12 @@ fn dry_run_prints_preload_variables_and_command() {
         text.contains(&format!("LD_PRELOAD=other.so:{}", lib.display())),
         "{text}"
     );
-    assert!(
-        text.contains(&format!("HOLOINJECT_DUMP={}", dump.display())),
-        "{text}"
-    );
+    assert!(text.contains(&format!("HOLOINJECT_DUMP={}", dump.display())), "{text}");
     assert!(
         text.contains("HOLOINJECT_EXIT_AFTER=7") && text.contains("HOLOINJECT_LOG=debug"),
         "{text}"
     );
-    assert!(
-        text.lines().last().unwrap().ends_with("/true 'a b'"),
-        "{text}"
-    );
+    assert!(text.lines().last().unwrap().ends_with("/true 'a b'"), "{text}");
 }
 
 #[test]
@@ -70,10 +64,7 @@ fn unknown_option_is_one_line_error() {
 
 #[test]
 fn bad_quilt_syntax_is_one_line_error() {
-    assert_one_line_error(
-        &launch(&["run", "--quilt", "8by6", "--", "true"], &[]),
-        "--quilt 8by6",
-    );
+    assert_one_line_error(&launch(&["run", "--quilt", "8by6", "--", "true"], &[]), "--quilt 8by6");
 }
 
 #[test]
@@ -107,10 +98,7 @@ fn unwritable_dump_dir_is_one_line_error() {
     std::fs::write(&file, b"x").unwrap();
     let target = file.join("sub");
     assert_one_line_error(
-        &launch(
-            &["run", "--dump", target.to_str().unwrap(), "--", "true"],
-            &[],
-        ),
+        &launch(&["run", "--dump", target.to_str().unwrap(), "--", "true"], &[]),
         "--dump",
     );
 }
@@ -120,28 +108,19 @@ fn missing_or_unloadable_layer_library_is_detected() {
     let dir = temp_dir("bad_lib");
     let missing = dir.join("libholoinject.so");
     assert_one_line_error(
-        &launch(
-            &["run", "--", "true"],
-            &[("HOLOINJECT_LIB", missing.to_str().unwrap())],
-        ),
+        &launch(&["run", "--", "true"], &[("HOLOINJECT_LIB", missing.to_str().unwrap())]),
         "layer library",
     );
     std::fs::write(&missing, b"not an ELF file").unwrap();
     assert_one_line_error(
-        &launch(
-            &["run", "--", "true"],
-            &[("HOLOINJECT_LIB", missing.to_str().unwrap())],
-        ),
+        &launch(&["run", "--", "true"], &[("HOLOINJECT_LIB", missing.to_str().unwrap())]),
         "cannot be loaded",
     );
 }
 
 #[test]
 fn program_exit_status_and_arguments_pass_through() {
-    let out = launch(
-        &["run", "--", "sh", "-c", "echo \"$0:$1\"; exit 3", "x", "y"],
-        &[],
-    );
+    let out = launch(&["run", "--", "sh", "-c", "echo \"$0:$1\"; exit 3", "x", "y"], &[]);
     assert_eq!(out.status.code(), Some(3));
     assert_eq!(String::from_utf8_lossy(&out.stdout), "x:y\n");
 }
@@ -152,10 +131,6 @@ fn help_documents_every_option() {
     assert_success(&out, "help");
     let text = String::from_utf8_lossy(&out.stdout);
     for o in holoinject::config::options::OPTIONS {
-        assert!(
-            text.contains(&format!("--{}", o.long)),
-            "--{} undocumented",
-            o.long
-        );
+        assert!(text.contains(&format!("--{}", o.long)), "--{} undocumented", o.long);
     }
 }

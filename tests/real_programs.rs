@@ -77,14 +77,7 @@ fn injected_dump(dir: &Path, retrace: &str, trace: &Path, frame: u32) -> PathBuf
     dump.join(format!("f{frame:06}_out.png"))
 }
 
-fn assert_replay_identical(
-    test: &str,
-    api: &str,
-    retrace: &str,
-    program: &[&str],
-    seconds: &str,
-    frame: u32,
-) {
+fn assert_replay_identical(test: &str, api: &str, retrace: &str, program: &[&str], seconds: &str, frame: u32) {
     let dir = temp_dir(test);
     let trace = record(&dir, test, api, program, seconds);
     let expected = plain_snapshot(&dir, retrace, &trace, frame);
@@ -103,25 +96,12 @@ fn glxgears_passthrough_is_pixel_identical() {
 
 #[test]
 fn es2gears_passthrough_is_pixel_identical() {
-    assert_replay_identical(
-        "es2gears",
-        "egl",
-        "eglretrace",
-        &["es2gears_x11"],
-        "1.5",
-        10,
-    );
+    assert_replay_identical("es2gears", "egl", "eglretrace", &["es2gears_x11"], "1.5", 10);
 }
 
 #[test]
 fn glmark2_scene_passthrough_is_pixel_identical() {
-    let prog = [
-        "glmark2",
-        "-s",
-        "400x300",
-        "-b",
-        "shading:shading=phong:duration=0.5",
-    ];
+    let prog = ["glmark2", "-s", "400x300", "-b", "shading:shading=phong:duration=0.5"];
     assert_replay_identical("glmark2_phong", "gl", "glretrace", &prog, "20", 12);
 }
 

@@ -39,10 +39,7 @@ fn launch(mut plan: Launch) -> Result<(), String> {
     let lib = layer_library()?;
     let program = find_program(&plan.program)?;
     absolutise_dump_dir(&mut plan)?;
-    let preload = cli::ld_preload_with(
-        std::env::var_os("LD_PRELOAD").as_deref(),
-        &lib.to_string_lossy(),
-    );
+    let preload = cli::ld_preload_with(std::env::var_os("LD_PRELOAD").as_deref(), &lib.to_string_lossy());
     if plan.dry_run {
         println!("LD_PRELOAD={preload}");
         for (k, v) in &plan.env {
@@ -69,8 +66,7 @@ fn layer_library() -> Result<PathBuf, String> {
     let path = match std::env::var_os("HOLOINJECT_LIB") {
         Some(p) => PathBuf::from(p),
         None => {
-            let exe = std::env::current_exe()
-                .map_err(|e| format!("cannot locate this executable: {e}"))?;
+            let exe = std::env::current_exe().map_err(|e| format!("cannot locate this executable: {e}"))?;
             exe.with_file_name("libholoinject.so")
         }
     };
@@ -80,8 +76,7 @@ fn layer_library() -> Result<PathBuf, String> {
             path.display()
         )
     })?;
-    let c = CString::new(path.as_os_str().as_encoded_bytes())
-        .map_err(|_| "layer path contains NUL".to_string())?;
+    let c = CString::new(path.as_os_str().as_encoded_bytes()).map_err(|_| "layer path contains NUL".to_string())?;
     // SAFETY: loading our own library locally only to prove it loads; it has no constructors.
     let handle = unsafe { libc::dlopen(c.as_ptr(), libc::RTLD_NOW | libc::RTLD_LOCAL) };
     if handle.is_null() {
@@ -89,10 +84,7 @@ fn layer_library() -> Result<PathBuf, String> {
         let why = unsafe { std::ffi::CStr::from_ptr(libc::dlerror()) }
             .to_string_lossy()
             .into_owned();
-        return Err(format!(
-            "layer library {} cannot be loaded: {why}",
-            path.display()
-        ));
+        return Err(format!("layer library {} cannot be loaded: {why}", path.display()));
     }
     Ok(path)
 }
@@ -120,21 +112,16 @@ fn absolutise_dump_dir(plan: &mut Launch) -> Result<(), String> {
         return Ok(());
     };
     let path = std::path::absolute(dir.as_str()).map_err(|e| format!("--dump {dir}: {e}"))?;
-    std::fs::create_dir_all(&path)
-        .map_err(|e| format!("--dump {}: cannot create: {e}", path.display()))?;
+    std::fs::create_dir_all(&path).map_err(|e| format!("--dump {}: cannot create: {e}", path.display()))?;
     let probe = path.join(".holoinject-write-test");
-    std::fs::write(&probe, b"")
-        .map_err(|e| format!("--dump {}: not writable: {e}", path.display()))?;
+    std::fs::write(&probe, b"").map_err(|e| format!("--dump {}: not writable: {e}", path.display()))?;
     let _ = std::fs::remove_file(probe);
     *dir = path.to_string_lossy().into_owned();
     Ok(())
 }
 
 fn shell_quote(s: &str) -> String {
-    if !s.is_empty()
-        && s.chars()
-            .all(|c| c.is_ascii_alphanumeric() || "-_./=:,+@%".contains(c))
-    {
+    if !s.is_empty() && s.chars().all(|c| c.is_ascii_alphanumeric() || "-_./=:,+@%".contains(c)) {
         s.to_string()
     } else {
         format!("'{}'", s.replace('\'', r"'\''"))

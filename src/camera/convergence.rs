@@ -39,7 +39,10 @@ mod tests {
     #[test]
     fn harmonic_mean_of_known_depths() {
         let (n, f) = (0.1f64, 100.0f64);
-        let range = DepthRange { a: -(f + n) / (f - n), b: -2.0 * f * n / (f - n) };
+        let range = DepthRange {
+            a: -(f + n) / (f - n),
+            b: -2.0 * f * n / (f - n),
+        };
         let window_depth = |w: f64| ((-range.a + range.b / w) * 0.5 + 0.5) as f32;
         let depths = [window_depth(2.0), window_depth(6.0), 1.0];
         let c = estimate(&depths, range).unwrap();

@@ -40,7 +40,11 @@ impl DepthRange {
     }
 
     pub fn far(&self) -> f64 {
-        if (self.a + 1.0).abs() < 1e-12 { f64::INFINITY } else { self.b / (self.a + 1.0) }
+        if (self.a + 1.0).abs() < 1e-12 {
+            f64::INFINITY
+        } else {
+            self.b / (self.a + 1.0)
+        }
     }
 }
 
@@ -57,14 +61,23 @@ pub fn classify(m: &[f32; 16]) -> Option<Projection> {
         return None;
     }
     if row3[0].abs() < EPS && row3[1].abs() < EPS && row3[2].abs() < EPS && (row3[3] - 1.0).abs() < EPS {
-        return Some(Projection { kind: ProjectionKind::Orthographic, depth: None });
+        return Some(Projection {
+            kind: ProjectionKind::Orthographic,
+            depth: None,
+        });
     }
     let bare = row3[0].abs() < EPS && row3[1].abs() < EPS && row3[3].abs() < EPS && row3[2] < 0.0;
     let depth = bare.then(|| {
         let s = -row3[2];
-        DepthRange { a: m[10] / s, b: m[14] / s }
+        DepthRange {
+            a: m[10] / s,
+            b: m[14] / s,
+        }
     });
-    Some(Projection { kind: ProjectionKind::Perspective, depth })
+    Some(Projection {
+        kind: ProjectionKind::Perspective,
+        depth,
+    })
 }
 
 #[cfg(test)]
@@ -73,7 +86,25 @@ mod tests {
 
     fn perspective(fovy: f64, aspect: f64, n: f64, f: f64) -> [f32; 16] {
         let t = 1.0 / (fovy.to_radians() / 2.0).tan();
-        [t / aspect, 0., 0., 0., 0., t, 0., 0., 0., 0., (f + n) / (n - f), -1., 0., 0., 2. * f * n / (n - f), 0.].map(|v| v as f32)
+        [
+            t / aspect,
+            0.,
+            0.,
+            0.,
+            0.,
+            t,
+            0.,
+            0.,
+            0.,
+            0.,
+            (f + n) / (n - f),
+            -1.,
+            0.,
+            0.,
+            2. * f * n / (n - f),
+            0.,
+        ]
+        .map(|v| v as f32)
     }
 
     #[test]
@@ -89,7 +120,24 @@ mod tests {
 
     #[test]
     fn orthographic_is_detected_through_model_view() {
-        let ortho = [2. / 640., 0., 0., 0., 0., 2. / 480., 0., 0., 0., 0., -1., 0., -1., -1., 0., 1.];
+        let ortho = [
+            2. / 640.,
+            0.,
+            0.,
+            0.,
+            0.,
+            2. / 480.,
+            0.,
+            0.,
+            0.,
+            0.,
+            -1.,
+            0.,
+            -1.,
+            -1.,
+            0.,
+            1.,
+        ];
         assert_eq!(classify(&ortho).unwrap().kind, ProjectionKind::Orthographic);
     }
 

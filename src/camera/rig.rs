@@ -20,12 +20,20 @@ pub struct ViewRig {
 impl ViewRig {
     /// `u_i = 2i/(N-1) - 1`; view 0 is the leftmost camera.
     pub fn u(&self, i: u32) -> f64 {
-        if self.views <= 1 { 0.0 } else { 2.0 * i as f64 / (self.views - 1) as f64 - 1.0 }
+        if self.views <= 1 {
+            0.0
+        } else {
+            2.0 * i as f64 / (self.views - 1) as f64 - 1.0
+        }
     }
 
     pub fn params(&self, i: u32) -> ViewParams {
         let u = self.u(i);
-        ViewParams { k: (self.depthiness * u) as f32, c: self.convergence as f32, h: (self.focus * u) as f32 }
+        ViewParams {
+            k: (self.depthiness * u) as f32,
+            c: self.convergence as f32,
+            h: (self.focus * u) as f32,
+        }
     }
 
     /// The centre view of an odd quilt (the one `glReadPixels` and `mono` show); for an even
@@ -37,7 +45,11 @@ impl ViewRig {
     /// Depthiness giving `px` pixels of disparity at infinity between adjacent views in a
     /// tile `tile_w` wide: `(tile_w/2) * 2s/(N-1) = px`.
     pub fn depthiness_for_disparity(px: f64, views: u32, tile_w: u32) -> f64 {
-        if views <= 1 || tile_w == 0 { 0.0 } else { px * (views - 1) as f64 / tile_w as f64 }
+        if views <= 1 || tile_w == 0 {
+            0.0
+        } else {
+            px * (views - 1) as f64 / tile_w as f64
+        }
     }
 
     /// The same shift as a projection matrix (column-major): `P'_i` of DESIGN §3, used by
@@ -59,7 +71,12 @@ mod tests {
     use super::*;
 
     fn rig(n: u32) -> ViewRig {
-        ViewRig { views: n, depthiness: 0.2, convergence: 5.0, focus: 0.0 }
+        ViewRig {
+            views: n,
+            depthiness: 0.2,
+            convergence: 5.0,
+            focus: 0.0,
+        }
     }
 
     #[test]
@@ -76,7 +93,24 @@ mod tests {
         // gluPerspective(60°, 4/3, 0.1, 100), column-major.
         let f = 1.0 / (30f64.to_radians()).tan();
         let (n, fa) = (0.1, 100.0);
-        let p = [f / (4.0 / 3.0), 0., 0., 0., 0., f, 0., 0., 0., 0., (fa + n) / (n - fa), -1., 0., 0., 2. * fa * n / (n - fa), 0.];
+        let p = [
+            f / (4.0 / 3.0),
+            0.,
+            0.,
+            0.,
+            0.,
+            f,
+            0.,
+            0.,
+            0.,
+            0.,
+            (fa + n) / (n - fa),
+            -1.,
+            0.,
+            0.,
+            2. * fa * n / (n - fa),
+            0.,
+        ];
         let r = ViewRig { focus: 0.01, ..rig(5) };
         let eye = [0.3, -0.2, -7.0, 1.0];
         let mul = |m: &[f64; 16]| -> [f64; 4] {

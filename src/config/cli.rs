@@ -16,19 +16,11 @@ pub struct Launch {
 impl Launch {
     pub fn get(&self, long: &str) -> Option<&str> {
         let name = options::find(long)?.env_name();
-        self.env
-            .iter()
-            .rev()
-            .find(|(k, _)| *k == name)
-            .map(|(_, v)| v.as_str())
+        self.env.iter().rev().find(|(k, _)| *k == name).map(|(_, v)| v.as_str())
     }
 }
 
-fn value_for(
-    opt: &OptDef,
-    inline: Option<&str>,
-    rest: &mut std::slice::Iter<OsString>,
-) -> Result<String, String> {
+fn value_for(opt: &OptDef, inline: Option<&str>, rest: &mut std::slice::Iter<OsString>) -> Result<String, String> {
     let value = match inline {
         Some(v) => v.to_string(),
         None => rest
@@ -63,8 +55,8 @@ pub fn parse_run(args: &[OsString]) -> Result<Launch, String> {
             Some((n, v)) => (n, Some(v)),
             None => (&text[2..], None),
         };
-        let opt = options::find(name)
-            .ok_or_else(|| format!("unknown option --{name} (see `holoinject run --help`)"))?;
+        let opt =
+            options::find(name).ok_or_else(|| format!("unknown option --{name} (see `holoinject run --help`)"))?;
         if opt.value.is_empty() {
             if inline.is_some() {
                 return Err(format!("--{name} takes no value"));
@@ -168,10 +160,7 @@ mod tests {
     #[test]
     fn ld_preload_appends_once() {
         assert_eq!(ld_preload_with(None, "/l/h.so"), "/l/h.so");
-        assert_eq!(
-            ld_preload_with(Some(OsStr::new("a.so")), "/l/h.so"),
-            "a.so:/l/h.so"
-        );
+        assert_eq!(ld_preload_with(Some(OsStr::new("a.so")), "/l/h.so"), "a.so:/l/h.so");
         assert_eq!(
             ld_preload_with(Some(OsStr::new("a.so /l/h.so")), "/l/h.so"),
             "a.so /l/h.so"
@@ -182,11 +171,7 @@ mod tests {
     fn help_lists_every_option() {
         let h = help();
         for o in options::OPTIONS {
-            assert!(
-                h.contains(&format!("--{}", o.long)),
-                "--{} missing from help",
-                o.long
-            );
+            assert!(h.contains(&format!("--{}", o.long)), "--{} missing from help", o.long);
         }
     }
 }

@@ -53,7 +53,14 @@ pub struct ViewSettings {
 
 impl Default for ViewSettings {
     fn default() -> Self {
-        ViewSettings { output: Output::Quilt, quilt: (8, 6), tile: None, depthiness: None, convergence: Convergence::Auto, focus: 0.0 }
+        ViewSettings {
+            output: Output::Quilt,
+            quilt: (8, 6),
+            tile: None,
+            depthiness: None,
+            convergence: Convergence::Auto,
+            focus: 0.0,
+        }
     }
 }
 
@@ -87,10 +94,7 @@ impl Default for Settings {
 impl Settings {
     /// Builds settings from a variable lookup; every bad value is reported (one line naming
     /// the variable) and replaced by its default, so the app keeps running.
-    pub fn from_lookup(
-        get: impl Fn(&str) -> Option<String>,
-        report: &mut dyn FnMut(String),
-    ) -> Settings {
+    pub fn from_lookup(get: impl Fn(&str) -> Option<String>, report: &mut dyn FnMut(String)) -> Settings {
         let mut s = Settings::default();
         for opt in options::OPTIONS.iter().filter(|o| !o.launcher_only) {
             let var = opt.env_name();
@@ -101,13 +105,9 @@ impl Settings {
             }
             match opt.long {
                 "dump" => s.dump_dir = Some(PathBuf::from(value)),
-                "dump-frames" => {
-                    s.dump_frames = parse::frames(&value).unwrap_or(FrameSet::Every(1))
-                }
+                "dump-frames" => s.dump_frames = parse::frames(&value).unwrap_or(FrameSet::Every(1)),
                 "exit-after" => s.exit_after = parse::frame_number(&value).ok(),
-                "osmesa-boundary" => {
-                    s.osmesa_boundary = parse::boundary(&value).unwrap_or(Boundary::Finish)
-                }
+                "osmesa-boundary" => s.osmesa_boundary = parse::boundary(&value).unwrap_or(Boundary::Finish),
                 "output" => s.view.output = parse::output(&value).unwrap_or(Output::Quilt),
                 "quilt" => s.view.quilt = parse::grid(&value).unwrap_or((8, 6)),
                 "tile" => s.view.tile = parse::grid(&value).ok(),
@@ -147,10 +147,7 @@ mod tests {
     use std::collections::HashMap;
 
     fn settings_of(vars: &[(&str, &str)]) -> (Settings, Vec<String>) {
-        let map: HashMap<String, String> = vars
-            .iter()
-            .map(|(k, v)| (k.to_string(), v.to_string()))
-            .collect();
+        let map: HashMap<String, String> = vars.iter().map(|(k, v)| (k.to_string(), v.to_string())).collect();
         let mut errors = vec![];
         let s = Settings::from_lookup(|k| map.get(k).cloned(), &mut |e| errors.push(e));
         (s, errors)
@@ -170,19 +167,12 @@ mod tests {
 
     #[test]
     fn bad_values_name_the_variable_and_fall_back() {
-        let (s, errors) = settings_of(&[
-            ("HOLOINJECT_EXIT_AFTER", "soon"),
-            ("HOLOINJECT_QUILT", "8by6"),
-        ]);
+        let (s, errors) = settings_of(&[("HOLOINJECT_EXIT_AFTER", "soon"), ("HOLOINJECT_QUILT", "8by6")]);
         assert_eq!(s.exit_after, None);
         assert_eq!(s.view.quilt, (8, 6));
         assert_eq!(errors.len(), 2);
         assert!(errors.iter().any(|e| e.starts_with("HOLOINJECT_QUILT=8by6")));
-        assert!(
-            errors
-                .iter()
-                .any(|e| e.starts_with("HOLOINJECT_EXIT_AFTER=soon"))
-        );
+        assert!(errors.iter().any(|e| e.starts_with("HOLOINJECT_EXIT_AFTER=soon")));
     }
 
     #[test]

@@ -16,10 +16,7 @@ pub struct OptDef {
 
 impl OptDef {
     pub fn env_name(&self) -> String {
-        format!(
-            "HOLOINJECT_{}",
-            self.long.to_ascii_uppercase().replace('-', "_")
-        )
+        format!("HOLOINJECT_{}", self.long.to_ascii_uppercase().replace('-', "_"))
     }
 }
 
@@ -29,7 +26,13 @@ const PLANNED: &str = "not available in this build yet";
 type Check = fn(&str) -> Result<(), String>;
 
 const fn opt(long: &'static str, value: &'static str, help: &'static str, check: Check) -> OptDef {
-    OptDef { long, value, help, check, launcher_only: false }
+    OptDef {
+        long,
+        value,
+        help,
+        check,
+        launcher_only: false,
+    }
 }
 
 #[rustfmt::skip]

@@ -6,14 +6,8 @@ pub fn grid(v: &str) -> Result<(u32, u32), String> {
     let (a, b) = v
         .split_once(['x', 'X'])
         .ok_or_else(|| format!("`{v}`: expected CxR, e.g. 8x6"))?;
-    let a: u32 = a
-        .trim()
-        .parse()
-        .map_err(|_| format!("`{v}`: expected CxR, e.g. 8x6"))?;
-    let b: u32 = b
-        .trim()
-        .parse()
-        .map_err(|_| format!("`{v}`: expected CxR, e.g. 8x6"))?;
+    let a: u32 = a.trim().parse().map_err(|_| format!("`{v}`: expected CxR, e.g. 8x6"))?;
+    let b: u32 = b.trim().parse().map_err(|_| format!("`{v}`: expected CxR, e.g. 8x6"))?;
     if a == 0 || b == 0 || a > 16384 || b > 16384 {
         return Err(format!("`{v}`: both numbers must be in 1..=16384"));
     }
@@ -27,7 +21,9 @@ pub fn mode(v: &str) -> Result<(), String> {
         _ => matches!(v.strip_prefix("hybrid:").map(str::parse::<u32>), Some(Ok(k)) if k >= 1),
     };
     if known {
-        Err(format!("`{v}`: view synthesis is not available in this build yet; use exact"))
+        Err(format!(
+            "`{v}`: view synthesis is not available in this build yet; use exact"
+        ))
     } else {
         Err(format!("`{v}`: expected exact|synth|hybrid:K|auto"))
     }
@@ -45,7 +41,11 @@ pub fn output(v: &str) -> Result<Output, String> {
 }
 
 pub fn convergence(v: &str) -> Result<Convergence, String> {
-    if v.trim() == "auto" { Ok(Convergence::Auto) } else { positive(v).map(Convergence::Fixed) }
+    if v.trim() == "auto" {
+        Ok(Convergence::Auto)
+    } else {
+        positive(v).map(Convergence::Fixed)
+    }
 }
 
 pub fn finite(v: &str) -> Result<f64, String> {
@@ -77,9 +77,7 @@ pub fn nonempty(v: &str) -> Result<(), String> {
 pub fn frame_number(v: &str) -> Result<u64, String> {
     match v.trim().parse::<u64>() {
         Ok(n) if n >= 1 => Ok(n),
-        _ => Err(format!(
-            "`{v}`: expected a frame number ≥ 1 (frames count from 1)"
-        )),
+        _ => Err(format!("`{v}`: expected a frame number ≥ 1 (frames count from 1)")),
     }
 }
 

@@ -15,19 +15,12 @@ pub type NativeDisplayType = *mut c_void;
 pub type NativePixmapType = *mut c_void;
 pub type NativeWindowType = *mut c_void;
 
-#[allow(
-    clippy::all,
-    non_upper_case_globals,
-    non_snake_case,
-    non_camel_case_types,
-    dead_code
-)]
+#[allow(clippy::all, non_upper_case_globals, non_snake_case, non_camel_case_types, dead_code)]
 #[allow(unsafe_op_in_unsafe_fn, unused_imports, missing_docs)]
 mod bindings {
     pub use super::{
-        EGLNativeDisplayType, EGLNativePixmapType, EGLNativeWindowType, EGLint, NativeDisplayType,
-        NativePixmapType, NativeWindowType, khronos_ssize_t, khronos_uint64_t,
-        khronos_utime_nanoseconds_t,
+        EGLNativeDisplayType, EGLNativePixmapType, EGLNativeWindowType, EGLint, NativeDisplayType, NativePixmapType,
+        NativeWindowType, khronos_ssize_t, khronos_uint64_t, khronos_utime_nanoseconds_t,
     };
     include!(concat!(env!("OUT_DIR"), "/egl_bindings.rs"));
 }

@@ -46,7 +46,11 @@ pub fn get_i4(gl: &Gl, pname: GLenum) -> [i32; 4] {
 
 impl<'a> StateGuard<'a> {
     pub fn new(gl: &'a Gl, info: GlInfo) -> Self {
-        StateGuard { gl, info, saved: Vec::with_capacity(16) }
+        StateGuard {
+            gl,
+            info,
+            saved: Vec::with_capacity(16),
+        }
     }
 
     pub fn core_like(&self) -> bool {
@@ -54,7 +58,10 @@ impl<'a> StateGuard<'a> {
     }
 
     pub fn framebuffers(mut self) -> Self {
-        let (draw, read) = (get_i(self.gl, DRAW_FRAMEBUFFER_BINDING) as u32, get_i(self.gl, READ_FRAMEBUFFER_BINDING) as u32);
+        let (draw, read) = (
+            get_i(self.gl, DRAW_FRAMEBUFFER_BINDING) as u32,
+            get_i(self.gl, READ_FRAMEBUFFER_BINDING) as u32,
+        );
         self.saved.push(Saved::Framebuffers { draw, read });
         self
     }
@@ -84,7 +91,8 @@ impl<'a> StateGuard<'a> {
         let gl = self.gl;
         self.saved.push(Saved::Program(get_i(gl, CURRENT_PROGRAM) as u32));
         if self.core_like() {
-            self.saved.push(Saved::VertexArray(get_i(gl, VERTEX_ARRAY_BINDING) as u32));
+            self.saved
+                .push(Saved::VertexArray(get_i(gl, VERTEX_ARRAY_BINDING) as u32));
         }
         self.saved.push(Saved::ActiveTexture(get_i(gl, ACTIVE_TEXTURE) as u32));
         // SAFETY: selecting unit 0 so its bindings can be read; restored by the guard.
@@ -93,7 +101,8 @@ impl<'a> StateGuard<'a> {
         if self.info.es && self.info.at_least(3, 0) || !self.info.es && self.info.at_least(3, 3) {
             self.saved.push(Saved::Sampler0(get_i(gl, SAMPLER_BINDING) as u32));
         }
-        self.saved.push(Saved::Renderbuffer(get_i(gl, RENDERBUFFER_BINDING) as u32));
+        self.saved
+            .push(Saved::Renderbuffer(get_i(gl, RENDERBUFFER_BINDING) as u32));
         let mut mask = [0u8; 4];
         // SAFETY: four-boolean query into a local array.
         unsafe { gl.GetBooleanv(COLOR_WRITEMASK, mask.as_mut_ptr()) };

@@ -4,28 +4,16 @@
 //! each context gets its own [`Gl`] table loaded through the *real* `*GetProcAddress` of the
 //! platform that created it.
 
-#[allow(
-    clippy::all,
-    non_upper_case_globals,
-    non_snake_case,
-    non_camel_case_types,
-    dead_code
-)]
+#[allow(clippy::all, non_upper_case_globals, non_snake_case, non_camel_case_types, dead_code)]
 #[allow(unsafe_op_in_unsafe_fn, unused_imports, missing_docs)]
 mod bindings {
     include!(concat!(env!("OUT_DIR"), "/gl_bindings.rs"));
 }
-pub use bindings::*;
 pub use bindings::types::GLenum;
+pub use bindings::*;
 
 /// GLX bindings; `glx::types` holds the X11/GLX types (and the GL ones again).
-#[allow(
-    clippy::all,
-    non_upper_case_globals,
-    non_snake_case,
-    non_camel_case_types,
-    dead_code
-)]
+#[allow(clippy::all, non_upper_case_globals, non_snake_case, non_camel_case_types, dead_code)]
 #[allow(unsafe_op_in_unsafe_fn, unused_imports, missing_docs)]
 pub mod glx {
     include!(concat!(env!("OUT_DIR"), "/glx_bindings.rs"));

@@ -44,12 +44,7 @@ fn pack_params(info: GlInfo) -> &'static [GLenum] {
             PACK_LSB_FIRST,
         ]
     } else if info.at_least(3, 0) {
-        &[
-            PACK_ALIGNMENT,
-            PACK_ROW_LENGTH,
-            PACK_SKIP_ROWS,
-            PACK_SKIP_PIXELS,
-        ]
+        &[PACK_ALIGNMENT, PACK_ROW_LENGTH, PACK_SKIP_ROWS, PACK_SKIP_PIXELS]
     } else {
         &[PACK_ALIGNMENT]
     }
@@ -79,11 +74,7 @@ impl<'a> PixelStateGuard<'a> {
         } else {
             read_fbo
         };
-        let read_buffer = if has_read_buffer(info) {
-            get(gl, READ_BUFFER)
-        } else {
-            0
-        };
+        let read_buffer = if has_read_buffer(info) { get(gl, READ_BUFFER) } else { 0 };
         let pack_buffer = if has_pack_buffer(info) {
             get(gl, PIXEL_PACK_BUFFER_BINDING)
         } else {
@@ -180,7 +171,11 @@ pub fn read_rgba(gl: &Gl, info: GlInfo, source: Source, rect: [i32; 4]) -> Resul
             Source::Fbo(f) => f,
         };
         if has_fbo(info) {
-            let target = if info.es && !info.at_least(3, 0) { FRAMEBUFFER } else { READ_FRAMEBUFFER };
+            let target = if info.es && !info.at_least(3, 0) {
+                FRAMEBUFFER
+            } else {
+                READ_FRAMEBUFFER
+            };
             gl.BindFramebuffer(target, fbo);
         }
         match source {
@@ -200,7 +195,15 @@ pub fn read_rgba(gl: &Gl, info: GlInfo, source: Source, rect: [i32; 4]) -> Resul
         for &(p, _) in &guard.pack {
             gl.PixelStorei(p, if p == PACK_ALIGNMENT { 1 } else { 0 });
         }
-        gl.ReadPixels(rect[0], rect[1], rect[2], rect[3], RGBA, UNSIGNED_BYTE, pixels.as_mut_ptr().cast());
+        gl.ReadPixels(
+            rect[0],
+            rect[1],
+            rect[2],
+            rect[3],
+            RGBA,
+            UNSIGNED_BYTE,
+            pixels.as_mut_ptr().cast(),
+        );
         if let Some(b) = default_read {
             gl.ReadBuffer(b);
         }
@@ -223,7 +226,15 @@ pub fn read_depth(gl: &Gl, info: GlInfo, fbo: u32, rect: [i32; 4]) -> Vec<f32> {
         for &(p, _) in &guard.pack {
             gl.PixelStorei(p, if p == PACK_ALIGNMENT { 4 } else { 0 });
         }
-        gl.ReadPixels(rect[0], rect[1], rect[2], rect[3], DEPTH_COMPONENT, FLOAT, depth.as_mut_ptr().cast());
+        gl.ReadPixels(
+            rect[0],
+            rect[1],
+            rect[2],
+            rect[3],
+            DEPTH_COMPONENT,
+            FLOAT,
+            depth.as_mut_ptr().cast(),
+        );
     }
     drop(guard);
     depth

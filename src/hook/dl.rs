@@ -43,8 +43,7 @@ pub fn real_dlsym(handle: *mut c_void, name: *const c_char) -> *const c_void {
         return core::ptr::null();
     }
     // SAFETY: `f` is glibc's dlsym.
-    let f: unsafe extern "C" fn(*mut c_void, *const c_char) -> *const c_void =
-        unsafe { core::mem::transmute(f) };
+    let f: unsafe extern "C" fn(*mut c_void, *const c_char) -> *const c_void = unsafe { core::mem::transmute(f) };
     unsafe { f(handle, name) }
 }
 
@@ -55,8 +54,7 @@ pub fn symbol_in_loaded(soname: &CStr, name: *const c_char) -> *const c_void {
         return core::ptr::null();
     }
     // SAFETY: `open` is glibc's dlopen; RTLD_NOLOAD never loads or runs constructors.
-    let open: unsafe extern "C" fn(*const c_char, c_int) -> *mut c_void =
-        unsafe { core::mem::transmute(open) };
+    let open: unsafe extern "C" fn(*const c_char, c_int) -> *mut c_void = unsafe { core::mem::transmute(open) };
     let h = unsafe { open(soname.as_ptr(), libc::RTLD_NOLOAD | libc::RTLD_LAZY) };
     if h.is_null() {
         return core::ptr::null();

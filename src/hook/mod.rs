@@ -78,9 +78,7 @@ pub fn find(name: *const c_char) -> Option<usize> {
     if first != b'g' && first != b'e' && first != b'O' {
         return None;
     }
-    HOOKS
-        .binary_search_by(|h| h.name.to_bytes().cmp(bytes))
-        .ok()
+    HOOKS.binary_search_by(|h| h.name.to_bytes().cmp(bytes)).ok()
 }
 
 static FAIL_ID: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(usize::MAX);
@@ -92,8 +90,7 @@ static FAIL_INIT: AtomicBool = AtomicBool::new(false);
 pub fn fail_point(id: usize) {
     if !FAIL_INIT.load(Ordering::Relaxed) {
         let target = std::env::var("HOLOINJECT_TEST_FAIL").ok();
-        let found =
-            target.and_then(|t| HOOKS.iter().position(|h| h.name.to_bytes() == t.as_bytes()));
+        let found = target.and_then(|t| HOOKS.iter().position(|h| h.name.to_bytes() == t.as_bytes()));
         FAIL_ID.store(found.unwrap_or(usize::MAX), Ordering::Relaxed);
         FAIL_INIT.store(true, Ordering::Relaxed);
     }

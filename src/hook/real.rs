@@ -105,7 +105,6 @@ pub fn via_loader(loader: *const c_void, name: &CStr) -> *const c_void {
         return core::ptr::null();
     }
     // SAFETY: every platform loader has this signature.
-    let f: unsafe extern "C" fn(*const c_char) -> *const c_void =
-        unsafe { core::mem::transmute(loader) };
+    let f: unsafe extern "C" fn(*const c_char) -> *const c_void = unsafe { core::mem::transmute(loader) };
     unsafe { f(name.as_ptr()) }
 }

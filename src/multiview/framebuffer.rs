@@ -20,7 +20,14 @@ pub fn ensure_target(gl: &Gl, mv: &mut Multiview, window: (u32, u32)) {
         Ok(t) => {
             crate::log::info(format_args!(
                 "quilt {}x{} views, tiles {}x{} ({}x{} px) for a {}x{} window",
-                wanted.cols, wanted.rows, wanted.tile_w, wanted.tile_h, wanted.width(), wanted.height(), window.0, window.1
+                wanted.cols,
+                wanted.rows,
+                wanted.tile_w,
+                wanted.tile_h,
+                wanted.width(),
+                wanted.height(),
+                window.0,
+                window.1
             ));
             mv.target = Some(t);
             mv.update_rig(wanted);
@@ -79,7 +86,9 @@ pub fn patch_get(mv: &Multiview, pname: GLenum) -> Option<i32> {
 
 /// Clears every tile (or the app's scissored part of each) while framebuffer 0 is bound.
 pub fn clear(gl: &Gl, mv: &Multiview, f: impl Fn()) {
-    let Some(layout) = mv.layout().filter(|_| mv.on_default_draw()) else { return f() };
+    let Some(layout) = mv.layout().filter(|_| mv.on_default_draw()) else {
+        return f();
+    };
     // SAFETY: querying and restoring the scissor test around our per-tile clears.
     let scissored = unsafe { gl.IsEnabled(SCISSOR_TEST) } != 0;
     if !scissored {
@@ -96,23 +105,35 @@ pub fn clear(gl: &Gl, mv: &Multiview, f: impl Fn()) {
 
 /// Source rectangle of a read from framebuffer 0: the centre view's tile.
 pub fn centre_rect(mv: &Multiview, r: [i32; 4]) -> Option<[i32; 4]> {
-    let layout = mv.layout().filter(|_| mv.app.read_fbo == 0 && mv.quilt_fbo().is_some())?;
+    let layout = mv
+        .layout()
+        .filter(|_| mv.app.read_fbo == 0 && mv.quilt_fbo().is_some())?;
     Some(layout.map_rect(mv.rig.centre(), r))
 }
 
 /// `glBlitFramebuffer` with framebuffer 0 on either side: reads come from the centre tile
 /// (or, framebuffer 0 to itself, from each view's own tile); writes go to every tile.
 pub fn blit(mv: &Multiview, src: [i32; 4], dst: [i32; 4], f: impl Fn([i32; 4], [i32; 4])) {
-    let Some(layout) = mv.layout().filter(|_| mv.quilt_fbo().is_some()) else { return f(src, dst) };
+    let Some(layout) = mv.layout().filter(|_| mv.quilt_fbo().is_some()) else {
+        return f(src, dst);
+    };
     let corners = |r: [i32; 4]| [r[0], r[1], r[2] - r[0], r[3] - r[1]];
     let back = |r: [i32; 4]| [r[0], r[1], r[0] + r[2], r[1] + r[3]];
     let (src_fb0, dst_fb0) = (mv.app.read_fbo == 0, mv.app.draw_fbo == 0);
     if !dst_fb0 {
-        let s = if src_fb0 { back(layout.map_rect(mv.rig.centre(), corners(src))) } else { src };
+        let s = if src_fb0 {
+            back(layout.map_rect(mv.rig.centre(), corners(src)))
+        } else {
+            src
+        };
         return f(s, dst);
     }
     for i in 0..layout.views() {
-        let s = if src_fb0 { back(layout.map_rect(i, corners(src))) } else { src };
+        let s = if src_fb0 {
+            back(layout.map_rect(i, corners(src)))
+        } else {
+            src
+        };
         f(s, back(layout.map_rect(i, corners(dst))));
     }
 }

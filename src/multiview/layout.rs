@@ -25,9 +25,19 @@ impl QuiltLayout {
             let scale = (MAX_QUILT_EDGE as f64 / (cols * window.0.max(1)) as f64)
                 .min(MAX_QUILT_EDGE as f64 / (rows * window.1.max(1)) as f64)
                 .min(1.0);
-            (((window.0 as f64 * scale) as u32).max(1), ((window.1 as f64 * scale) as u32).max(1))
+            (
+                ((window.0 as f64 * scale) as u32).max(1),
+                ((window.1 as f64 * scale) as u32).max(1),
+            )
         });
-        QuiltLayout { cols, rows, tile_w, tile_h, window_w: window.0.max(1), window_h: window.1.max(1) }
+        QuiltLayout {
+            cols,
+            rows,
+            tile_w,
+            tile_h,
+            window_w: window.0.max(1),
+            window_h: window.1.max(1),
+        }
     }
 
     pub fn views(&self) -> u32 {
@@ -44,7 +54,10 @@ impl QuiltLayout {
 
     /// Lower-left corner of view `i`'s tile.
     pub fn origin(&self, i: u32) -> (i32, i32) {
-        (((i % self.cols) * self.tile_w) as i32, ((i / self.cols) * self.tile_h) as i32)
+        (
+            ((i % self.cols) * self.tile_w) as i32,
+            ((i / self.cols) * self.tile_h) as i32,
+        )
     }
 
     /// True when tiles are the window's size, so window pixels map 1:1 into tiles.
@@ -59,7 +72,10 @@ impl QuiltLayout {
         let sx = self.tile_w as f64 / self.window_w as f64;
         let sy = self.tile_h as f64 / self.window_h as f64;
         let (x0, y0) = ((r[0] as f64 * sx).round() as i32, (r[1] as f64 * sy).round() as i32);
-        let (x1, y1) = (((r[0] + r[2]) as f64 * sx).round() as i32, ((r[1] + r[3]) as f64 * sy).round() as i32);
+        let (x1, y1) = (
+            ((r[0] + r[2]) as f64 * sx).round() as i32,
+            ((r[1] + r[3]) as f64 * sy).round() as i32,
+        );
         [ox + x0, oy + y0, x1 - x0, y1 - y0]
     }
 
@@ -116,7 +132,10 @@ mod tests {
         let big = QuiltLayout::new((8, 6), None, (1920, 1080));
         assert!(big.width() <= MAX_QUILT_EDGE && big.height() <= MAX_QUILT_EDGE);
         assert_eq!(big.file_tag(), "qs8x6a1.7778");
-        assert_eq!(QuiltLayout::new((8, 6), Some((420, 560)), (420, 560)).aspect_label(), "0.75");
+        assert_eq!(
+            QuiltLayout::new((8, 6), Some((420, 560)), (420, 560)).aspect_label(),
+            "0.75"
+        );
     }
 
     #[test]

@@ -50,14 +50,20 @@ fn compile(gl: &Gl, shader: u32, source: &str) -> bool {
 /// The stage whose gl_Position reaches the rasteriser: geometry, else tessellation
 /// evaluation, else vertex.
 fn last_position_stage(gl: &Gl, shaders: &[u32]) -> Option<(u32, Stage)> {
-    let staged: Vec<(u32, Stage)> =
-        shaders.iter().filter_map(|&s| Some((s, Stage::from_gl(shader_iv(gl, s, SHADER_TYPE) as u32)?))).collect();
-    [Stage::Geometry, Stage::TessEval, Stage::Vertex].into_iter().find_map(|want| staged.iter().copied().find(|(_, st)| *st == want))
+    let staged: Vec<(u32, Stage)> = shaders
+        .iter()
+        .filter_map(|&s| Some((s, Stage::from_gl(shader_iv(gl, s, SHADER_TYPE) as u32)?)))
+        .collect();
+    [Stage::Geometry, Stage::TessEval, Stage::Vertex]
+        .into_iter()
+        .find_map(|want| staged.iter().copied().find(|(_, st)| *st == want))
 }
 
 /// Links `program` (through `link`, the real glLinkProgram) with the view shift injected.
 pub fn link_program(gl: &Gl, group: &ShareGroup, program: u32, link: impl Fn()) {
-    let Some((shader, stage)) = last_position_stage(gl, &attached_shaders(gl, program)) else { return link() };
+    let Some((shader, stage)) = last_position_stage(gl, &attached_shaders(gl, program)) else {
+        return link();
+    };
     let known = group.lock().original_sources.get(&shader).cloned();
     let original = known.clone().unwrap_or_else(|| source_of(gl, shader));
     let analysis = shader::analyse(&original, stage);
@@ -70,7 +76,9 @@ pub fn link_program(gl: &Gl, group: &ShareGroup, program: u32, link: impl Fn()) 
         ok != 0
     };
     if rewritten && !linked {
-        crate::log::warn(format_args!("program {program}: link failed with the view shift; linking the app's original"));
+        crate::log::warn(format_args!(
+            "program {program}: link failed with the view shift; linking the app's original"
+        ));
         compile(gl, shader, &original);
         group.lock().original_sources.remove(&shader);
         link();
@@ -81,16 +89,29 @@ pub fn link_program(gl: &Gl, group: &ShareGroup, program: u32, link: impl Fn()) 
     }
 }
 
-fn try_rewrite(gl: &Gl, group: &ShareGroup, shader: u32, original: &str, analysis: &shader::Analysis, program: u32) -> bool {
+fn try_rewrite(
+    gl: &Gl,
+    group: &ShareGroup,
+    shader: u32,
+    original: &str,
+    analysis: &shader::Analysis,
+    program: u32,
+) -> bool {
     let new = match shader::rewrite(original, analysis) {
         Ok(s) => s,
         Err(why) => {
-            crate::log::info(format_args!("program {program}: {:?} shader {shader} left as is: {why}", analysis.stage));
+            crate::log::info(format_args!(
+                "program {program}: {:?} shader {shader} left as is: {why}",
+                analysis.stage
+            ));
             return false;
         }
     };
     if !compile(gl, shader, &new) {
-        crate::log::warn(format_args!("program {program}: rewritten {:?} shader {shader} does not compile; using the original", analysis.stage));
+        crate::log::warn(format_args!(
+            "program {program}: rewritten {:?} shader {shader} does not compile; using the original",
+            analysis.stage
+        ));
         compile(gl, shader, original);
         return false;
     }
@@ -105,13 +126,25 @@ fn uniform_location(gl: &Gl, program: u32, name: &str) -> i32 {
 }
 
 fn record(gl: &Gl, group: &ShareGroup, program: u32, analysis: &shader::Analysis, rewritten: bool) {
-    let view_loc = if rewritten { uniform_location(gl, program, shader::VIEW_UNIFORM) } else { -1 };
+    let view_loc = if rewritten {
+        uniform_location(gl, program, shader::VIEW_UNIFORM)
+    } else {
+        -1
+    };
     let builtin = analysis.matrix_uniforms.iter().any(|n| n.starts_with("gl_"));
-    let matrix_locs =
-        analysis.matrix_uniforms.iter().filter(|n| !n.starts_with("gl_")).map(|n| uniform_location(gl, program, n)).filter(|&l| l >= 0).collect();
+    let matrix_locs = analysis
+        .matrix_uniforms
+        .iter()
+        .filter(|n| !n.starts_with("gl_"))
+        .map(|n| uniform_location(gl, program, n))
+        .filter(|&l| l >= 0)
+        .collect();
     crate::log::debug(format_args!(
         "program {program}: {:?}, view uniform at {view_loc}, matrices {:?}",
         analysis.position_kind, analysis.matrix_uniforms
     ));
-    group.lock().programs.insert(program, super::replay::program_info(view_loc, matrix_locs, builtin));
+    group
+        .lock()
+        .programs
+        .insert(program, super::replay::program_info(view_loc, matrix_locs, builtin));
 }

@@ -74,7 +74,12 @@ impl Multiview {
             read_buffer: crate::gl::BACK,
         };
         let layout = QuiltLayout::new(settings.quilt, settings.tile, window);
-        let rig = ViewRig { views: layout.views(), depthiness: 0.0, convergence: 1.0, focus: settings.focus };
+        let rig = ViewRig {
+            views: layout.views(),
+            depthiness: 0.0,
+            convergence: 1.0,
+            focus: settings.focus,
+        };
         let mut mv = Multiview {
             info,
             settings,
@@ -97,8 +102,10 @@ impl Multiview {
     pub fn update_rig(&mut self, layout: QuiltLayout) {
         let views = layout.views();
         self.rig.views = views;
-        self.rig.depthiness =
-            self.settings.depthiness.unwrap_or_else(|| ViewRig::depthiness_for_disparity(4.0, views, layout.tile_w));
+        self.rig.depthiness = self
+            .settings
+            .depthiness
+            .unwrap_or_else(|| ViewRig::depthiness_for_disparity(4.0, views, layout.tile_w));
         self.rig.convergence = match self.settings.convergence {
             Convergence::Fixed(c) => c,
             Convergence::Auto => self.auto_convergence.unwrap_or_else(|| self.fallback_convergence()),
@@ -151,11 +158,17 @@ pub fn on_make_current(cur: &Current) {
     }
     let Some((gl, info)) = cur.ctx.gl() else { return };
     if !(info.es && info.at_least(3, 0) || !info.es && info.at_least(3, 0)) {
-        crate::log::warn(format_args!("context {:#x}: GL {info:?} has no framebuffer objects; multiview off", cur.ctx.handle));
+        crate::log::warn(format_args!(
+            "context {:#x}: GL {info:?} has no framebuffer objects; multiview off",
+            cur.ctx.handle
+        ));
         return;
     }
     let Some(window) = crate::output::surface_size(cur) else {
-        crate::log::warn(format_args!("context {:#x}: surface size unknown; multiview off", cur.ctx.handle));
+        crate::log::warn(format_args!(
+            "context {:#x}: surface size unknown; multiview off",
+            cur.ctx.handle
+        ));
         return;
     };
     let mut guard = cur.ctx.mv();
@@ -168,7 +181,9 @@ pub fn update_convergence(gl: &crate::gl::Gl, mv: &mut Multiview) {
     if mv.settings.convergence != Convergence::Auto {
         return;
     }
-    let (Some(target), Some(range)) = (mv.target.as_ref(), mv.last_depth) else { return };
+    let (Some(target), Some(range)) = (mv.target.as_ref(), mv.last_depth) else {
+        return;
+    };
     let tile = target.layout.tile_rect(mv.rig.centre());
     let depths = crate::gl::readback::read_depth(gl, mv.info, target.fbo, tile);
     if let Some(c) = crate::camera::convergence::estimate(&depths, range) {

@@ -61,15 +61,22 @@ fn shift_for(gl: &Gl, mv: &mut Multiview, group: &ShareGroup) -> Shift {
         };
     }
     let state = group.lock();
-    let Some(info) = state.programs.get(&mv.program).filter(|p| p.view_loc >= 0) else { return Shift::None };
+    let Some(info) = state.programs.get(&mv.program).filter(|p| p.view_loc >= 0) else {
+        return Shift::None;
+    };
     let matrix = if info.builtin_projection {
         fixed_function_projection(gl)
     } else {
-        info.matrix_locs.first().and_then(|&loc| state.matrices.get(&(mv.program, loc)).copied())
+        info.matrix_locs
+            .first()
+            .and_then(|&loc| state.matrices.get(&(mv.program, loc)).copied())
     };
     let loc = info.view_loc;
     drop(state);
-    Shift::Uniform { loc, mode: mode_of(matrix, mv) }
+    Shift::Uniform {
+        loc,
+        mode: mode_of(matrix, mv),
+    }
 }
 
 fn set_view_uniform(gl: &Gl, mv: &Multiview, loc: i32, i: u32, mode: Mode) {
@@ -89,7 +96,11 @@ fn set_view_uniform(gl: &Gl, mv: &Multiview, loc: i32, i: u32, mode: Mode) {
 fn draw_single(gl: &Gl, mv: &Multiview, group: &ShareGroup, f: impl Fn()) {
     if mv.program != 0 {
         let mut state = group.lock();
-        if let Some(p) = state.programs.get_mut(&mv.program).filter(|p| p.view_loc >= 0 && !p.centre_set) {
+        if let Some(p) = state
+            .programs
+            .get_mut(&mv.program)
+            .filter(|p| p.view_loc >= 0 && !p.centre_set)
+        {
             p.centre_set = true;
             let loc = p.view_loc;
             drop(state);
@@ -107,12 +118,17 @@ pub fn draw(gl: &Gl, mv: &mut Multiview, group: &ShareGroup, f: impl Fn()) {
     let shift = shift_for(gl, mv, group);
     // SAFETY: viewport, scissor, uniform and projection changes below are all restored.
     let scissored = unsafe { gl.IsEnabled(SCISSOR_TEST) } != 0;
-    let app_matrix_mode = matches!(shift, Shift::Projection(_)).then(|| crate::gl::guard::get_i(gl, MATRIX_MODE) as u32);
+    let app_matrix_mode =
+        matches!(shift, Shift::Projection(_)).then(|| crate::gl::guard::get_i(gl, MATRIX_MODE) as u32);
     unsafe { gl.Enable(SCISSOR_TEST) };
     for i in 0..layout.views() {
         let vp = layout.map_rect(i, mv.app.viewport);
         let tile = layout.tile_rect(i);
-        let sc = if scissored { intersect(layout.map_rect(i, mv.app.scissor), tile) } else { tile };
+        let sc = if scissored {
+            intersect(layout.map_rect(i, mv.app.scissor), tile)
+        } else {
+            tile
+        };
         unsafe {
             gl.Viewport(vp[0], vp[1], vp[2], vp[3]);
             gl.Scissor(sc[0], sc[1], sc[2], sc[3]);
@@ -164,5 +180,10 @@ fn restore(gl: &Gl, mv: &Multiview, scissored: bool, shift: &Shift, group: &Shar
 
 /// Link-time facts about a program, as the replay needs them.
 pub fn program_info(view_loc: i32, matrix_locs: Vec<i32>, builtin_projection: bool) -> ProgramInfo {
-    ProgramInfo { view_loc, matrix_locs, builtin_projection, centre_set: false }
+    ProgramInfo {
+        view_loc,
+        matrix_locs,
+        builtin_projection,
+        centre_set: false,
+    }
 }

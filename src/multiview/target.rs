@@ -23,7 +23,12 @@ fn default_has_alpha(gl: &Gl, info: GlInfo) -> bool {
     // query writes one integer.
     unsafe {
         gl.BindFramebuffer(DRAW_FRAMEBUFFER, 0);
-        gl.GetFramebufferAttachmentParameteriv(DRAW_FRAMEBUFFER, attachment, FRAMEBUFFER_ATTACHMENT_ALPHA_SIZE, &mut bits);
+        gl.GetFramebufferAttachmentParameteriv(
+            DRAW_FRAMEBUFFER,
+            attachment,
+            FRAMEBUFFER_ATTACHMENT_ALPHA_SIZE,
+            &mut bits,
+        );
     }
     bits > 0
 }
@@ -39,7 +44,12 @@ impl QuiltTarget {
             gl.GenTextures(1, &mut color);
             gl.BindTexture(TEXTURE_2D, color);
             gl.TexStorage2D(TEXTURE_2D, 1, if alpha { RGBA8 } else { RGB8 }, w, h);
-            for (p, v) in [(TEXTURE_MIN_FILTER, LINEAR), (TEXTURE_MAG_FILTER, LINEAR), (TEXTURE_WRAP_S, CLAMP_TO_EDGE), (TEXTURE_WRAP_T, CLAMP_TO_EDGE)] {
+            for (p, v) in [
+                (TEXTURE_MIN_FILTER, LINEAR),
+                (TEXTURE_MAG_FILTER, LINEAR),
+                (TEXTURE_WRAP_S, CLAMP_TO_EDGE),
+                (TEXTURE_WRAP_T, CLAMP_TO_EDGE),
+            ] {
                 gl.TexParameteri(TEXTURE_2D, p, v as i32);
             }
             gl.GenRenderbuffers(1, &mut depth);
@@ -51,7 +61,12 @@ impl QuiltTarget {
             gl.FramebufferRenderbuffer(FRAMEBUFFER, DEPTH_STENCIL_ATTACHMENT, RENDERBUFFER, depth);
             gl.CheckFramebufferStatus(FRAMEBUFFER)
         };
-        let target = QuiltTarget { fbo, color, depth, layout };
+        let target = QuiltTarget {
+            fbo,
+            color,
+            depth,
+            layout,
+        };
         if status != FRAMEBUFFER_COMPLETE {
             target.delete(gl);
             return Err(format!("quilt framebuffer {w}x{h} incomplete (status {status:#x})"));

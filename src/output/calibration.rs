@@ -17,9 +17,7 @@ pub struct SubpixelCell {
     pub offsets: [f64; 6],
 }
 
-const CELL_KEYS: [&str; 6] = [
-    "ROffsetX", "ROffsetY", "GOffsetX", "GOffsetY", "BOffsetX", "BOffsetY",
-];
+const CELL_KEYS: [&str; 6] = ["ROffsetX", "ROffsetY", "GOffsetX", "GOffsetY", "BOffsetX", "BOffsetY"];
 
 /// Everything a `visual.json` says about the optics of one display.
 #[derive(Clone, Debug, PartialEq)]
@@ -64,12 +62,18 @@ pub struct WeaveParams {
 impl Calibration {
     /// Parses the text of a `visual.json`; `source` names it in errors.
     pub fn from_visual_json(text: &str, source: &str) -> Result<Calibration, String> {
-        let value: Value = serde_json::from_str(text)
-            .map_err(|e| one_line(format!("{source}: not valid JSON: {e}")))?;
+        let value: Value =
+            serde_json::from_str(text).map_err(|e| one_line(format!("{source}: not valid JSON: {e}")))?;
         let Value::Object(obj) = value else {
             return Err(format!("{source}: not a JSON object"));
         };
-        Fields { obj: &obj, source, strict: false, prefix: "" }.calibration()
+        Fields {
+            obj: &obj,
+            source,
+            strict: false,
+            prefix: "",
+        }
+        .calibration()
     }
 
     /// The calibration of a built-in device preset.
@@ -80,8 +84,7 @@ impl Calibration {
     /// A path when it contains '/' or ends with `.json`, else a preset name.
     pub fn load(name_or_path: &str) -> Result<Calibration, String> {
         if name_or_path.contains('/') || name_or_path.ends_with(".json") {
-            let text = std::fs::read_to_string(name_or_path)
-                .map_err(|e| format!("{name_or_path}: {e}"))?;
+            let text = std::fs::read_to_string(name_or_path).map_err(|e| format!("{name_or_path}: {e}"))?;
             return Calibration::from_visual_json(&text, name_or_path);
         }
         DevicePreset::get(name_or_path).map(|p| p.calibration)
@@ -120,9 +123,23 @@ struct Fields<'a> {
 }
 
 const KNOWN_KEYS: [&str; 17] = [
-    "configVersion", "serial", "pitch", "slope", "center", "viewCone", "invView",
-    "verticalAngle", "DPI", "screenW", "screenH", "flipImageX", "flipImageY", "flipSubp",
-    "fringe", "CellPatternMode", "subpixelCells",
+    "configVersion",
+    "serial",
+    "pitch",
+    "slope",
+    "center",
+    "viewCone",
+    "invView",
+    "verticalAngle",
+    "DPI",
+    "screenW",
+    "screenH",
+    "flipImageX",
+    "flipImageY",
+    "flipSubp",
+    "fringe",
+    "CellPatternMode",
+    "subpixelCells",
 ];
 
 impl Fields<'_> {
@@ -214,7 +231,12 @@ impl Fields<'_> {
         let Value::Object(obj) = cell else {
             return Err(self.err(&format!("subpixelCells[{index}]"), "not an object"));
         };
-        let inner = Fields { obj, source: self.source, strict: false, prefix: &prefix };
+        let inner = Fields {
+            obj,
+            source: self.source,
+            strict: false,
+            prefix: &prefix,
+        };
         let mut offsets = [0.0; 6];
         for (slot, key) in offsets.iter_mut().zip(CELL_KEYS) {
             *slot = inner.required(key, -4.0..=4.0)?;
@@ -292,8 +314,18 @@ macro_rules! presets {
 
 /// Embedded so the layer needs no files at run time.
 const PRESETS: &[(&str, &str)] = presets![
-    "portrait", "go", "16-gen3-landscape", "16-gen3-portrait", "32-gen3-landscape",
-    "32-gen3-portrait", "65-gen2", "16-gen2", "32-gen2", "15.6-gen1", "8.9-gen1", "32-gen1-8k",
+    "portrait",
+    "go",
+    "16-gen3-landscape",
+    "16-gen3-portrait",
+    "32-gen3-landscape",
+    "32-gen3-portrait",
+    "65-gen2",
+    "16-gen2",
+    "32-gen2",
+    "15.6-gen1",
+    "8.9-gen1",
+    "32-gen1-8k",
 ];
 
 pub fn preset_names() -> Vec<&'static str> {
@@ -304,16 +336,22 @@ impl DevicePreset {
     pub fn get(name: &str) -> Result<DevicePreset, String> {
         let Some((name, text)) = PRESETS.iter().find(|(n, _)| n.eq_ignore_ascii_case(name)) else {
             let known = preset_names().join(", ");
-            return Err(format!("unknown device \"{name}\" (known: {known}; or a visual.json path)"));
+            return Err(format!(
+                "unknown device \"{name}\" (known: {known}; or a visual.json path)"
+            ));
         };
         DevicePreset::parse(name, text)
     }
 
     fn parse(name: &'static str, text: &str) -> Result<DevicePreset, String> {
         let source = format!("presets/devices/{name}.toml");
-        let file: PresetFile =
-            toml::from_str(text).map_err(|e| one_line(format!("{source}: {e}")))?;
-        let fields = Fields { obj: &file.calibration, source: &source, strict: true, prefix: "" };
+        let file: PresetFile = toml::from_str(text).map_err(|e| one_line(format!("{source}: {e}")))?;
+        let fields = Fields {
+            obj: &file.calibration,
+            source: &source,
+            strict: true,
+            prefix: "",
+        };
         Ok(DevicePreset {
             name,
             model: file.model,
@@ -357,7 +395,10 @@ mod tests {
         let bare = r#"{"pitch": 52, "slope": -7, "center": 0.5, "DPI": 324,
                        "screenW": 1536, "screenH": 2048, "flipSubp": true}"#;
         let b = Calibration::from_visual_json(bare, "b").unwrap();
-        assert_eq!((b.pitch, b.view_cone, b.inv_view, b.flip_subp), (52.0, 40.0, true, true));
+        assert_eq!(
+            (b.pitch, b.view_cone, b.inv_view, b.flip_subp),
+            (52.0, 40.0, true, true)
+        );
     }
 
     #[test]
@@ -379,15 +420,38 @@ mod tests {
     #[test]
     fn bad_inputs_give_one_line_errors_naming_source_and_field() {
         let cases = [
-            (VISUAL_JSON.replace(r#""pitch": {"value": 52.0},"#, ""), r#"visual.json: field "pitch": missing"#),
-            (VISUAL_JSON.replace("52.0}", "\"NaN\"}"), r#"visual.json: field "pitch": NaN is not finite"#),
-            (VISUAL_JSON.replace("324.0", "0"), r#"visual.json: field "DPI": 0 out of range [1, 10000]"#),
-            (VISUAL_JSON.replace("1536.0", "1536.5"), r#"visual.json: field "screenW": 1536.5 is not a whole number of pixels"#),
-            (VISUAL_JSON.replace("-7.0", "0"), r#"visual.json: field "slope": 0 is too close to 0"#),
-            (VISUAL_JSON.replace(r#"{"value": 0.5}"#, "[1]"), r#"visual.json: field "center": not a number"#),
-            (VISUAL_JSON.replace(r#"{"value": 0.5}"#, "{}"), r#"visual.json: field "center": object without "value""#),
-            (VISUAL_JSON.replace(r#""somethingNew""#, r#""subpixelCells": [{"ROffsetX": 0}], "x""#),
-             r#"visual.json: field "subpixelCells[0].ROffsetY": missing"#),
+            (
+                VISUAL_JSON.replace(r#""pitch": {"value": 52.0},"#, ""),
+                r#"visual.json: field "pitch": missing"#,
+            ),
+            (
+                VISUAL_JSON.replace("52.0}", "\"NaN\"}"),
+                r#"visual.json: field "pitch": NaN is not finite"#,
+            ),
+            (
+                VISUAL_JSON.replace("324.0", "0"),
+                r#"visual.json: field "DPI": 0 out of range [1, 10000]"#,
+            ),
+            (
+                VISUAL_JSON.replace("1536.0", "1536.5"),
+                r#"visual.json: field "screenW": 1536.5 is not a whole number of pixels"#,
+            ),
+            (
+                VISUAL_JSON.replace("-7.0", "0"),
+                r#"visual.json: field "slope": 0 is too close to 0"#,
+            ),
+            (
+                VISUAL_JSON.replace(r#"{"value": 0.5}"#, "[1]"),
+                r#"visual.json: field "center": not a number"#,
+            ),
+            (
+                VISUAL_JSON.replace(r#"{"value": 0.5}"#, "{}"),
+                r#"visual.json: field "center": object without "value""#,
+            ),
+            (
+                VISUAL_JSON.replace(r#""somethingNew""#, r#""subpixelCells": [{"ROffsetX": 0}], "x""#),
+                r#"visual.json: field "subpixelCells[0].ROffsetY": missing"#,
+            ),
         ];
         for (json, want) in cases {
             assert_eq!(err_of(&json), want);
@@ -407,8 +471,15 @@ mod tests {
         // 2048 / (1536 * -7) and 1 / (3 * 1536)
         assert!((p.tilt + 0.190_476_19).abs() < 1e-7);
         assert!((p.subp - 2.170_138_9e-4).abs() < 1e-10);
-        assert_eq!((p.center, p.view_count, p.inv_view, p.flip_subp), (0.5, 48, true, false));
-        let flipped = Calibration { flip_image_x: true, ..c }.weave_params(48);
+        assert_eq!(
+            (p.center, p.view_count, p.inv_view, p.flip_subp),
+            (0.5, 48, true, false)
+        );
+        let flipped = Calibration {
+            flip_image_x: true,
+            ..c
+        }
+        .weave_params(48);
         assert_eq!((flipped.tilt, flipped.subp, flipped.pitch), (-p.tilt, -p.subp, p.pitch));
     }
 
@@ -425,7 +496,10 @@ mod tests {
             assert!((2.0..20.0).contains(&px_per_lens), "{name}: {px_per_lens} px per lens");
             assert!((0.05..0.5).contains(&p.tilt.abs()), "{name}: tilt {}", p.tilt);
             assert!((30..=100).contains(&views), "{name}: {views} views");
-            assert!(q.columns * q.tile_width <= 8192 && q.rows * q.tile_height <= 8192, "{name}");
+            assert!(
+                q.columns * q.tile_width <= 8192 && q.rows * q.tile_height <= 8192,
+                "{name}"
+            );
             let screen_aspect = c.screen_w as f64 / c.screen_h as f64;
             assert!((q.aspect / screen_aspect - 1.0).abs() < 1e-3, "{name}: aspect");
             assert!(d.serial_prefix.starts_with("LKG-") && d.model.contains("Looking Glass"));
@@ -446,7 +520,10 @@ mod tests {
         assert_eq!(e, r#"presets/devices/portrait.toml: field "ptich": unknown field"#);
         let extra = format!("colour = 1\n{text}");
         let e = DevicePreset::parse("portrait", &extra).unwrap_err();
-        assert!(e.starts_with("presets/devices/portrait.toml: ") && e.contains("colour"), "{e}");
+        assert!(
+            e.starts_with("presets/devices/portrait.toml: ") && e.contains("colour"),
+            "{e}"
+        );
     }
 
     #[test]

@@ -29,12 +29,28 @@ pub fn stereo_pair(views: u32) -> (u32, u32) {
     }
     let half = (views - 1) as f64 / 2.0;
     let d = ((views - 1) as f64 / 4.0).max(0.5);
-    ((half - d).round() as u32, (half + d).round().min((views - 1) as f64) as u32)
+    (
+        (half - d).round() as u32,
+        (half + d).round().min((views - 1) as f64) as u32,
+    )
 }
 
 fn blit(gl: &Gl, src: [i32; 4], dst: [i32; 4], filter: GLenum) {
     // SAFETY: framebuffers are bound by the caller; rectangles are inside both.
-    unsafe { gl.BlitFramebuffer(src[0], src[1], src[2], src[3], dst[0], dst[1], dst[2], dst[3], COLOR_BUFFER_BIT, filter) };
+    unsafe {
+        gl.BlitFramebuffer(
+            src[0],
+            src[1],
+            src[2],
+            src[3],
+            dst[0],
+            dst[1],
+            dst[2],
+            dst[3],
+            COLOR_BUFFER_BIT,
+            filter,
+        )
+    };
 }
 
 fn clear_window(gl: &Gl) {
@@ -60,7 +76,12 @@ pub fn present(gl: &Gl, mv: &Multiview, window: (u32, u32), output: Output) -> R
         Output::Mono => blit(gl, corners(layout.tile_rect(mv.rig.centre())), win, LINEAR),
         Output::Quilt => {
             clear_window(gl);
-            blit(gl, [0, 0, layout.width() as i32, layout.height() as i32], fit(layout.width(), layout.height(), window.0, window.1), LINEAR);
+            blit(
+                gl,
+                [0, 0, layout.width() as i32, layout.height() as i32],
+                fit(layout.width(), layout.height(), window.0, window.1),
+                LINEAR,
+            );
         }
         Output::SideBySide => {
             let (l, r) = stereo_pair(layout.views());

@@ -12,10 +12,7 @@ pub fn presented(frame: u64, surface: usize, settings: &Settings) -> Result<(), 
         ));
     }
     let (w, h) = super::surface::size(&cur).ok_or("the surface size is unknown")?;
-    let (gl, info) = cur
-        .ctx
-        .gl()
-        .ok_or("the context's GL functions could not be loaded")?;
+    let (gl, info) = cur.ctx.gl().ok_or("the context's GL functions could not be loaded")?;
     let rgba = readback::read_presented(gl, *info, w, h)?;
     let rgb = super::png::rgba_bottom_up_to_rgb_top_down(&rgba, w, h);
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
@@ -23,12 +20,22 @@ pub fn presented(frame: u64, surface: usize, settings: &Settings) -> Result<(), 
 }
 
 /// `DIR/f{frame:06}_qs{C}x{R}a{aspect}.png`: the whole quilt, view 0 bottom-left.
-pub fn quilt(frame: u64, gl: &crate::gl::Gl, mv: &crate::multiview::Multiview, settings: &Settings) -> Result<(), String> {
+pub fn quilt(
+    frame: u64,
+    gl: &crate::gl::Gl,
+    mv: &crate::multiview::Multiview,
+    settings: &Settings,
+) -> Result<(), String> {
     let dir = settings.dump_dir.as_ref().ok_or("no dump directory")?;
     let target = mv.target.as_ref().ok_or("no quilt")?;
     let l = target.layout;
     let (w, h) = (l.width(), l.height());
-    let rgba = readback::read_rgba(gl, mv.info, readback::Source::Fbo(target.fbo), [0, 0, w as i32, h as i32])?;
+    let rgba = readback::read_rgba(
+        gl,
+        mv.info,
+        readback::Source::Fbo(target.fbo),
+        [0, 0, w as i32, h as i32],
+    )?;
     let rgb = super::png::rgba_bottom_up_to_rgb_top_down(&rgba, w, h);
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     super::png::write_rgb(&dir.join(format!("f{frame:06}_{}.png", l.file_tag())), w, h, &rgb)

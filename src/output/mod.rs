@@ -53,7 +53,11 @@ fn multiview_frame(frame: u64, surface: usize, settings: &crate::config::Setting
         let Some(window) = surface::size(cur) else { return };
         if settings.dumps(frame) {
             if let Err(e) = dump::quilt(frame, gl, mv, settings) {
-                crate::log::once(&DUMP_FAILED, crate::log::Level::Error, format_args!("quilt of frame {frame} not dumped: {e}"));
+                crate::log::once(
+                    &DUMP_FAILED,
+                    crate::log::Level::Error,
+                    format_args!("quilt of frame {frame} not dumped: {e}"),
+                );
             }
         }
         if let Err(e) = compose::present(gl, mv, window, settings.view.output) {

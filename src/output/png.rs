@@ -9,11 +9,8 @@ pub fn write_rgb(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result<(),
     enc.set_color(::png::ColorType::Rgb);
     enc.set_depth(::png::BitDepth::Eight);
     enc.set_compression(::png::Compression::Fast);
-    let mut w = enc
-        .write_header()
-        .map_err(|e| format!("{}: {e}", path.display()))?;
-    w.write_image_data(rgb)
-        .map_err(|e| format!("{}: {e}", path.display()))
+    let mut w = enc.write_header().map_err(|e| format!("{}: {e}", path.display()))?;
+    w.write_image_data(rgb).map_err(|e| format!("{}: {e}", path.display()))
 }
 
 /// GL rows are bottom-up RGBA; PNG rows are top-down RGB.
@@ -32,9 +29,7 @@ pub fn rgba_bottom_up_to_rgb_top_down(rgba: &[u8], width: u32, height: u32) -> V
 mod tests {
     #[test]
     fn flips_rows_and_drops_alpha() {
-        let rgba = [
-            1, 2, 3, 9, 4, 5, 6, 9, /* row 1 */ 7, 8, 9, 9, 10, 11, 12, 9,
-        ];
+        let rgba = [1, 2, 3, 9, 4, 5, 6, 9, /* row 1 */ 7, 8, 9, 9, 10, 11, 12, 9];
         let rgb = super::rgba_bottom_up_to_rgb_top_down(&rgba, 2, 2);
         assert_eq!(rgb, vec![7, 8, 9, 10, 11, 12, 1, 2, 3, 4, 5, 6]);
     }

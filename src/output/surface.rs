@@ -32,8 +32,7 @@ pub fn size(cur: &Current) -> Option<(u32, u32)> {
                 return None;
             }
             // SAFETY: glXQueryDrawable(Display*, GLXDrawable, int, unsigned int*).
-            let f: unsafe extern "C" fn(usize, usize, i32, *mut u32) =
-                unsafe { core::mem::transmute(f) };
+            let f: unsafe extern "C" fn(usize, usize, i32, *mut u32) = unsafe { core::mem::transmute(f) };
             let (mut w, mut h) = (0u32, 0u32);
             unsafe {
                 f(b.display, b.draw, GLX_WIDTH, &mut w);
@@ -47,8 +46,7 @@ pub fn size(cur: &Current) -> Option<(u32, u32)> {
                 return None;
             }
             // SAFETY: eglQuerySurface(EGLDisplay, EGLSurface, EGLint, EGLint*) -> EGLBoolean.
-            let f: unsafe extern "C" fn(usize, usize, i32, *mut i32) -> u32 =
-                unsafe { core::mem::transmute(f) };
+            let f: unsafe extern "C" fn(usize, usize, i32, *mut i32) -> u32 = unsafe { core::mem::transmute(f) };
             let (mut w, mut h) = (0i32, 0i32);
             let ok = unsafe {
                 f(b.display, b.draw, crate::gl::egl::EGL_WIDTH, &mut w) != 0

@@ -32,7 +32,9 @@ pub enum Filter {
     Nearest,
     BlendNext,
     /// `sigma` in views.
-    Gaussian { sigma: f32 },
+    Gaussian {
+        sigma: f32,
+    },
 }
 
 impl Filter {
@@ -162,9 +164,18 @@ pub fn weave_cpu(
     out_w: u32,
     out_h: u32,
 ) -> Vec<u8> {
-    assert!(quilt_rgb.len() >= quilt_w as usize * quilt_h as usize * 3, "quilt too short");
-    assert!(cols >= 1 && rows >= 1 && quilt_w >= cols && quilt_h >= rows, "bad quilt layout");
-    assert!((1..=cols * rows).contains(&params.view_count), "views do not fit the quilt");
+    assert!(
+        quilt_rgb.len() >= quilt_w as usize * quilt_h as usize * 3,
+        "quilt too short"
+    );
+    assert!(
+        cols >= 1 && rows >= 1 && quilt_w >= cols && quilt_h >= rows,
+        "bad quilt layout"
+    );
+    assert!(
+        (1..=cols * rows).contains(&params.view_count),
+        "views do not fit the quilt"
+    );
     let quilt = Quilt {
         rgb: quilt_rgb,
         width: quilt_w,
@@ -248,17 +259,27 @@ mod tests {
     #[test]
     fn flags_change_views_as_designed() {
         // invView: 1 - fract. Pixel (1, 0) fracts 0.75, 0, 0.25 -> 0.25, 1 (held below 1), 0.75.
-        let inv = WeaveParams { inv_view: true, ..simple() };
+        let inv = WeaveParams {
+            inv_view: true,
+            ..simple()
+        };
         let [r, g, b] = views(&inv, 1, 0);
         assert_eq!((r, b), (2.0, 6.0));
         assert!(g < 8.0 && g > 7.999, "{g}");
         // flipSubp: R reads the sub-pixel slot of B and B that of R; G stays.
-        let flip = WeaveParams { flip_subp: true, ..simple() };
+        let flip = WeaveParams {
+            flip_subp: true,
+            ..simple()
+        };
         assert_eq!(views(&flip, 1, 0), [2.0, 0.0, 6.0]);
         // flipImageX negates tilt and subp (weave_params does it): pixel (1, 0):
         //   R: (0.375 - 0.125) * 2 - 0.25 = 0.25 -> 2;  G: (0.375 - 0.125 - 0.125) * 2 - 0.25 = 0
         //   B: (0.375 - 0.25 - 0.125) * 2 - 0.25 = -0.25 -> fract 0.75 -> 6
-        let mirrored = WeaveParams { tilt: -0.5, subp: -0.125, ..simple() };
+        let mirrored = WeaveParams {
+            tilt: -0.5,
+            subp: -0.125,
+            ..simple()
+        };
         assert_eq!(views(&mirrored, 1, 0), [2.0, 0.0, 6.0]);
     }
 
@@ -284,12 +305,20 @@ mod tests {
     #[test]
     fn cell_patterns_follow_bridge() {
         let at = |pattern, x, y| {
-            let p = WeaveParams { cell_pattern: pattern, cells: vec![[0.0; 6]; 4], ..simple() };
+            let p = WeaveParams {
+                cell_pattern: pattern,
+                cells: vec![[0.0; 6]; 4],
+                ..simple()
+            };
             cell_index(&p, x, y).unwrap()
         };
         assert_eq!([at(0, 3, 5), at(1, 3, 5), at(1, 2, 5), at(2, 9, 6)], [0, 0, 1, 2]);
         assert_eq!([at(3, 1, 1), at(3, 0, 3), at(4, 7, 2), at(4, 6, 3)], [3, 3, 1, 0]);
-        let two = WeaveParams { cell_pattern: 2, cells: vec![[0.0; 6]; 2], ..simple() };
+        let two = WeaveParams {
+            cell_pattern: 2,
+            cells: vec![[0.0; 6]; 2],
+            ..simple()
+        };
         assert_eq!(cell_index(&two, 0, 3), Some(1)); // 3 % 4 = 3, then mod 2 cells
         assert_eq!(cell_index(&simple(), 0, 3), None);
     }
@@ -348,26 +377,33 @@ mod tests {
         assert_eq!(&blend[..], &out[..], "views land on whole numbers: no blending here");
     }
 
+    /// Every preset woven at its native resolution into `target/test-patterns/<device>.png`.
     #[test]
     fn device_test_patterns() {
         let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target/test-patterns");
         std::fs::create_dir_all(&dir).unwrap();
-        for name in preset_names() {
-            let device = DevicePreset::get(name).unwrap();
-            let (cal, q) = (&device.calibration, device.quilt);
-            let params = cal.weave_params(q.columns * q.rows);
-            // Flat tiles make the tile size irrelevant to the result: keep the quilt small.
-            let quilt = flat_quilt(q.columns, q.rows, 2);
-            let (w, h) = (cal.screen_w, cal.screen_h);
-            let (qw, qh) = (q.columns * 2, q.rows * 2);
-            let t0 = std::time::Instant::now();
-            let out = weave_cpu(&quilt, qw, qh, q.columns, q.rows, &params, Filter::Nearest, w, h);
-            let t1 = std::time::Instant::now();
-            check_pattern(name, &params, &out, w, h);
-            let t2 = std::time::Instant::now();
-            crate::output::png::write_rgb(&dir.join(format!("{name}.png")), w, h, &out).unwrap();
-            eprintln!("{name}: weave {:?} check {:?} png {:?}", t1 - t0, t2 - t1, t2.elapsed());
-        }
+        let names = preset_names();
+        // Checking and PNG encoding are serial: two devices at a time keep both cores busy.
+        let (first, second) = names.split_at(names.len() / 2);
+        std::thread::scope(|s| {
+            for half in [first, second] {
+                let dir = &dir;
+                s.spawn(move || half.iter().for_each(|name| device_test_pattern(name, dir)));
+            }
+        });
+    }
+
+    fn device_test_pattern(name: &str, dir: &std::path::Path) {
+        let device = DevicePreset::get(name).unwrap();
+        let (cal, q) = (&device.calibration, device.quilt);
+        let params = cal.weave_params(q.columns * q.rows);
+        // Flat tiles make the tile size irrelevant to the result: keep the quilt small.
+        let quilt = flat_quilt(q.columns, q.rows, 2);
+        let (w, h) = (cal.screen_w, cal.screen_h);
+        let (qw, qh) = (q.columns * 2, q.rows * 2);
+        let out = weave_cpu(&quilt, qw, qh, q.columns, q.rows, &params, Filter::Nearest, w, h);
+        check_pattern(name, &params, &out, w, h);
+        crate::output::png::write_rgb(&dir.join(format!("{name}.png")), w, h, &out).unwrap();
     }
 
     fn check_pattern(name: &str, params: &WeaveParams, out: &[u8], w: u32, h: u32) {

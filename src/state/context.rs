@@ -1,12 +1,12 @@
 //! One application context: its platform, share group and the GL table the layer calls
 //! through (loaded once, via the platform's real loader, at first make-current).
 
+use super::ShareGroup;
 use crate::gl::{Gl, SharedGl};
 use crate::hook::{HOOK_COUNT, HOOKS, id, real};
 use core::ffi::{CStr, c_void};
-use super::ShareGroup;
-use std::sync::{Arc, Mutex, MutexGuard, OnceLock};
 use std::sync::atomic::{AtomicPtr, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard, OnceLock};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Platform {
@@ -65,9 +65,7 @@ pub struct Context {
 
 impl Context {
     pub fn new(platform: Platform, handle: usize, display: usize, group: Arc<ShareGroup>) -> Context {
-        let real = (0..HOOK_COUNT)
-            .map(|_| AtomicPtr::new(core::ptr::null_mut()))
-            .collect();
+        let real = (0..HOOK_COUNT).map(|_| AtomicPtr::new(core::ptr::null_mut())).collect();
         Context {
             platform,
             handle,
@@ -132,11 +130,7 @@ fn version_string(gl: &Gl) -> Option<String> {
     if p.is_null() {
         return None;
     }
-    Some(
-        unsafe { CStr::from_ptr(p.cast()) }
-            .to_string_lossy()
-            .into_owned(),
-    )
+    Some(unsafe { CStr::from_ptr(p.cast()) }.to_string_lossy().into_owned())
 }
 
 #[cfg(test)]

@@ -46,7 +46,9 @@ pub fn context_created(platform: Platform, handle: usize, display: usize, share:
     };
     let id = group.id;
     let ctx = Arc::new(Context::new(platform, handle, display, group));
-    crate::log::info(format_args!("{platform:?} context {handle:#x} created (share group {id})"));
+    crate::log::info(format_args!(
+        "{platform:?} context {handle:#x} created (share group {id})"
+    ));
     map.insert((platform, handle), ctx);
 }
 
@@ -60,9 +62,7 @@ fn lookup_or_adopt(platform: Platform, handle: usize, display: usize) -> Arc<Con
     map.entry((platform, handle))
         .or_insert_with(|| {
             let group = new_group();
-            crate::log::info(format_args!(
-                "{platform:?} context {handle:#x} adopted at make-current"
-            ));
+            crate::log::info(format_args!("{platform:?} context {handle:#x} adopted at make-current"));
             Arc::new(Context::new(platform, handle, display, group))
         })
         .clone()

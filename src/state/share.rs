@@ -35,7 +35,10 @@ pub struct ShareGroup {
 
 impl ShareGroup {
     pub fn new(id: u64) -> ShareGroup {
-        ShareGroup { id, state: Mutex::default() }
+        ShareGroup {
+            id,
+            state: Mutex::default(),
+        }
     }
 
     pub fn lock(&self) -> MutexGuard<'_, GroupState> {

@@ -1,8 +1,8 @@
 //! EGL: context life cycle, current bindings and the swap frame boundaries.
 
 use crate::gl::egl::types::{
-    __eglMustCastToProperFunctionPointerType as EglProc, EGLBoolean, EGLConfig, EGLContext,
-    EGLDisplay, EGLSurface, EGLint,
+    __eglMustCastToProperFunctionPointerType as EglProc, EGLBoolean, EGLConfig, EGLContext, EGLDisplay, EGLSurface,
+    EGLint,
 };
 use crate::state::{Binding, Platform};
 use core::ffi::c_char;

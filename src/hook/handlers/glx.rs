@@ -45,13 +45,7 @@ pub fn glXCreateContextAttribsARB(
     created(real(dpy, config, share, direct, attribs), dpy, share)
 }
 
-fn made_current(
-    ok: Bool,
-    dpy: *mut Display,
-    draw: GLXDrawable,
-    read: GLXDrawable,
-    ctx: GLXContext,
-) -> Bool {
+fn made_current(ok: Bool, dpy: *mut Display, draw: GLXDrawable, read: GLXDrawable, ctx: GLXContext) -> Bool {
     if ok != 0 {
         let binding = Binding {
             display: dpy as usize,
@@ -83,33 +77,19 @@ pub fn glXMakeContextCurrent(
     made_current(real(dpy, draw, read, ctx), dpy, draw, read, ctx)
 }
 
-pub fn glXDestroyContext(
-    real: impl Fn(*mut Display, GLXContext),
-    dpy: *mut Display,
-    ctx: GLXContext,
-) {
+pub fn glXDestroyContext(real: impl Fn(*mut Display, GLXContext), dpy: *mut Display, ctx: GLXContext) {
     real(dpy, ctx);
     crate::state::context_destroyed(Platform::Glx, ctx as usize);
 }
 
-pub fn glXSwapBuffers(
-    real: impl Fn(*mut Display, GLXDrawable),
-    dpy: *mut Display,
-    drawable: GLXDrawable,
-) {
+pub fn glXSwapBuffers(real: impl Fn(*mut Display, GLXDrawable), dpy: *mut Display, drawable: GLXDrawable) {
     crate::output::frame_boundary(drawable as usize, || real(dpy, drawable));
 }
 
-pub fn glXGetProcAddress(
-    real: impl Fn(*const GLubyte) -> __GLXextFuncPtr,
-    name: *const GLubyte,
-) -> __GLXextFuncPtr {
+pub fn glXGetProcAddress(real: impl Fn(*const GLubyte) -> __GLXextFuncPtr, name: *const GLubyte) -> __GLXextFuncPtr {
     super::proc_result(name.cast(), real(name).cast()) as __GLXextFuncPtr
 }
 
-pub fn glXGetProcAddressARB(
-    real: impl Fn(*const GLubyte) -> __GLXextFuncPtr,
-    name: *const GLubyte,
-) -> __GLXextFuncPtr {
+pub fn glXGetProcAddressARB(real: impl Fn(*const GLubyte) -> __GLXextFuncPtr, name: *const GLubyte) -> __GLXextFuncPtr {
     super::proc_result(name.cast(), real(name).cast()) as __GLXextFuncPtr
 }

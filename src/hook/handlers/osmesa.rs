@@ -66,9 +66,6 @@ pub fn OSMesaDestroyContext(real: impl Fn(*mut c_void), ctx: *mut c_void) {
     crate::state::context_destroyed(Platform::Osmesa, ctx as usize);
 }
 
-pub fn OSMesaGetProcAddress(
-    real: impl Fn(*const c_char) -> *const c_void,
-    name: *const c_char,
-) -> *const c_void {
+pub fn OSMesaGetProcAddress(real: impl Fn(*const c_char) -> *const c_void, name: *const c_char) -> *const c_void {
     super::proc_result(name, real(name))
 }

@@ -115,7 +115,9 @@ pub fn glCopyTexSubImage2D(
     w: GLsizei,
     h: GLsizei,
 ) {
-    let r = with_active(|_, mv, _| fb::centre_rect(mv, [x, y, w, h])).flatten().unwrap_or([x, y, w, h]);
+    let r = with_active(|_, mv, _| fb::centre_rect(mv, [x, y, w, h]))
+        .flatten()
+        .unwrap_or([x, y, w, h]);
     real(target, level, xoff, yoff, r[0], r[1], w, h)
 }
 
@@ -131,7 +133,9 @@ pub fn glCopyTexImage2D(
     h: GLsizei,
     border: GLint,
 ) {
-    let r = with_active(|_, mv, _| fb::centre_rect(mv, [x, y, w, h])).flatten().unwrap_or([x, y, w, h]);
+    let r = with_active(|_, mv, _| fb::centre_rect(mv, [x, y, w, h]))
+        .flatten()
+        .unwrap_or([x, y, w, h]);
     real(target, level, format, r[0], r[1], w, h, border)
 }
 
@@ -157,9 +161,18 @@ pub fn glBlitFramebuffer(
 
 /// Invalidation is only a hint; framebuffer 0's attachment names are invalid on our quilt,
 /// so the hint is dropped while the quilt stands in for it.
-pub fn glInvalidateFramebuffer(real: impl Fn(GLenum, GLsizei, *const GLenum), target: GLenum, n: GLsizei, atts: *const GLenum) {
+pub fn glInvalidateFramebuffer(
+    real: impl Fn(GLenum, GLsizei, *const GLenum),
+    target: GLenum,
+    n: GLsizei,
+    atts: *const GLenum,
+) {
     let on_fb0 = with_active(|_, mv, _| {
-        let app = if target == crate::gl::READ_FRAMEBUFFER { mv.app.read_fbo } else { mv.app.draw_fbo };
+        let app = if target == crate::gl::READ_FRAMEBUFFER {
+            mv.app.read_fbo
+        } else {
+            mv.app.draw_fbo
+        };
         mv.quilt_fbo().is_some() && app == 0
     });
     if on_fb0 != Some(true) {

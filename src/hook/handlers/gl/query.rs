@@ -12,7 +12,11 @@ pub fn glGetIntegerv(real: impl Fn(GLenum, *mut GLint), pname: GLenum, data: *mu
     if data.is_null() || !crate::config::settings().multiview() {
         return;
     }
-    let fixed = if pname == NUM_PROGRAM_BINARY_FORMATS { Some(0) } else { with_active(|_, mv, _| fb::patch_get(mv, pname)).flatten() };
+    let fixed = if pname == NUM_PROGRAM_BINARY_FORMATS {
+        Some(0)
+    } else {
+        with_active(|_, mv, _| fb::patch_get(mv, pname)).flatten()
+    };
     if let Some(v) = fixed {
         // SAFETY: the app passed room for this query's answer (at least one integer).
         unsafe { *data = v };
@@ -26,8 +30,11 @@ pub fn glGetShaderSource(
     length: *mut GLsizei,
     source: *mut GLchar,
 ) {
-    let original = crate::state::with_current(|cur| cur.and_then(|c| c.ctx.group.lock().original_sources.get(&shader).cloned()));
-    let Some(text) = original.filter(|_| size > 0 && !source.is_null()) else { return real(shader, size, length, source) };
+    let original =
+        crate::state::with_current(|cur| cur.and_then(|c| c.ctx.group.lock().original_sources.get(&shader).cloned()));
+    let Some(text) = original.filter(|_| size > 0 && !source.is_null()) else {
+        return real(shader, size, length, source);
+    };
     let n = text.len().min(size as usize - 1);
     // SAFETY: the app's buffer holds `size` bytes; we write n < size bytes plus a NUL.
     unsafe {
@@ -44,7 +51,9 @@ pub fn glGetShaderiv(real: impl Fn(GLuint, GLenum, *mut GLint), shader: GLuint, 
     if pname != crate::gl::SHADER_SOURCE_LENGTH || params.is_null() {
         return;
     }
-    let len = crate::state::with_current(|cur| cur.and_then(|c| c.ctx.group.lock().original_sources.get(&shader).map(|s| s.len() + 1)));
+    let len = crate::state::with_current(|cur| {
+        cur.and_then(|c| c.ctx.group.lock().original_sources.get(&shader).map(|s| s.len() + 1))
+    });
     if let Some(len) = len {
         // SAFETY: one integer answer.
         unsafe { *params = len as GLint };
