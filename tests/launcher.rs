@@ -69,12 +69,7 @@ fn bad_quilt_syntax_is_one_line_error() {
 
 #[test]
 fn options_not_available_yet_are_refused_not_ignored() {
-    for args in [
-        ["--output", "quilt"],
-        ["--quilt", "8x6"],
-        ["--depthiness", "0.1"],
-        ["--mode", "exact"],
-    ] {
+    for args in [["--mode", "synth"], ["--mode", "hybrid:4"], ["--preset", "quake"]] {
         let mut all = vec!["run"];
         all.extend(args);
         all.extend(["--", "true"]);

@@ -144,10 +144,11 @@ const KNOWN_KEYS: [&str; 17] = [
 
 impl Fields<'_> {
     fn calibration(&self) -> Result<Calibration, String> {
-        if self.strict {
-            if let Some(k) = self.obj.keys().find(|k| !KNOWN_KEYS.contains(&k.as_str())) {
-                return Err(self.err(k, "unknown field"));
-            }
+        let unknown = self.obj.keys().find(|k| !KNOWN_KEYS.contains(&k.as_str()));
+        if self.strict
+            && let Some(k) = unknown
+        {
+            return Err(self.err(k, "unknown field"));
         }
         let slope = self.required("slope", -1000.0..=1000.0)?;
         if slope.abs() < 1e-3 {
@@ -469,7 +470,7 @@ mod tests {
         // 52 * (1536/324) * cos(atan(-1/7)) = 246.5185 * 7/sqrt(50) = 244.0409
         assert!((p.pitch - 244.040_88).abs() < 1e-3, "{}", p.pitch);
         // 2048 / (1536 * -7) and 1 / (3 * 1536)
-        assert!((p.tilt + 0.190_476_19).abs() < 1e-7);
+        assert!((p.tilt + 0.190_476_2).abs() < 1e-7);
         assert!((p.subp - 2.170_138_9e-4).abs() < 1e-10);
         assert_eq!(
             (p.center, p.view_count, p.inv_view, p.flip_subp),

@@ -6,6 +6,7 @@ pub mod compose;
 mod dump;
 pub mod png;
 mod surface;
+pub mod timing;
 
 pub use surface::size as surface_size;
 
@@ -24,6 +25,7 @@ pub fn frames_presented() -> u64 {
 pub fn frame_boundary(surface: usize, present: impl FnOnce()) {
     let frame = FRAME.fetch_add(1, Ordering::Relaxed) + 1;
     let settings = crate::config::settings();
+    timing::tick(frame);
     if settings.multiview() {
         multiview_frame(frame, surface, settings);
     }
@@ -69,6 +71,9 @@ fn multiview_frame(frame: u64, surface: usize, settings: &crate::config::Setting
 }
 
 fn exit_after(frame: u64) -> ! {
+    if let Some(line) = timing::summary() {
+        crate::log::info(format_args!("{line}"));
+    }
     crate::log::info(format_args!(
         "exit-after: frame {frame} presented; exiting with status 0"
     ));

@@ -118,7 +118,7 @@ fn gaussian_taps(view: f32, k0: u32, last: u32, sigma: f32, taps: &mut [(u32, f3
         total += w;
         count += 1;
     }
-    if !(total > 1e-20) {
+    if total.is_nan() || total <= 1e-20 {
         // A sigma far below one view: every weight underflowed; that is Nearest.
         taps[0] = (k0, 1.0);
         return 1;
@@ -409,9 +409,9 @@ mod tests {
     fn check_pattern(name: &str, params: &WeaveParams, out: &[u8], w: u32, h: u32) {
         for (i, px) in out.chunks_exact(3).enumerate() {
             let (x, y) = (i as u32 % w, h - 1 - i as u32 / w);
-            for ch in 0..3 {
+            for (ch, &value) in px.iter().enumerate() {
                 let view = view_for(params, x, y, w, h, ch) as u32;
-                assert_eq!(px[ch], view_colour(view)[ch], "{name}: pixel ({x}, {y}) ch {ch}");
+                assert_eq!(value, view_colour(view)[ch], "{name}: pixel ({x}, {y}) ch {ch}");
             }
         }
     }

@@ -31,6 +31,15 @@ pub fn sheared_projection(p: [f32; 16], i: usize, n: usize, s: f32, c: f32, f: f
     q
 }
 
+/// Like `sheared_projection`, but for geometry the layer treats as lying at
+/// infinity (`.xyww` skyboxes: clip z == w). There the layer's shift is
+/// x_clip' = x_clip + k*w_clip + h*w_clip (no -k*c term), so the reference
+/// quilt must draw such geometry with P + (k + h) * e0 * row3(P).
+pub fn sheared_projection_at_infinity(p: [f32; 16], i: usize, n: usize, s: f32, f: f32) -> [f32; 16] {
+    // c = 0 drops exactly the -k*c*e0*e3^T term of the full shear.
+    sheared_projection(p, i, n, s, 0.0, f)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -71,6 +80,29 @@ mod tests {
     fn ortho_untouched() {
         let o = math::ortho(0.0, 640.0, 0.0, 480.0, -1.0, 1.0);
         assert_eq!(sheared_projection(o, 0, 9, 0.4, 7.0, 0.3), o);
+    }
+
+    #[test]
+    fn at_infinity_shifts_by_k_plus_h_times_w() {
+        let p = math::perspective(60f32.to_radians(), 1.25, 0.1, 50.0);
+        let (s, c, f) = (0.3, 7.0, 0.05);
+        assert_eq!(sheared_projection_at_infinity(p, 2, 5, s, f), p);
+        for i in 0..5 {
+            let u = view_u(i, 5);
+            let q = sheared_projection_at_infinity(p, i, 5, s, f);
+            let full = sheared_projection(p, i, 5, s, c, f);
+            for v in [[0.4, 0.2, -1.0, 1.0], [-3.0, 1.0, -9.0, 1.0]] {
+                let (a, b) = (clip(&p, v), clip(&q, v));
+                // x moves by (k + h) * w; y, z, w are untouched.
+                assert!((b[0] - (a[0] + (s * u + f * u) * a[3])).abs() < 1e-5, "view {i}");
+                assert_eq!(&b[1..], &a[1..]);
+                // the full shear differs from it by exactly -k*c
+                let g = clip(&full, v);
+                assert!((g[0] - (b[0] - s * u * c)).abs() < 1e-5, "view {i}");
+            }
+        }
+        let o = math::ortho(0.0, 640.0, 0.0, 480.0, -1.0, 1.0);
+        assert_eq!(sheared_projection_at_infinity(o, 0, 9, 0.4, 0.3), o);
     }
 
     #[test]

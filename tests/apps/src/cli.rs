@@ -1,5 +1,5 @@
 //! Hand-rolled CLI shared by every app (no clap: the flag set is tiny).
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::path::PathBuf;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -29,6 +29,8 @@ pub struct AppInfo {
     pub default_convergence: f32,
     /// Extra value flags: (name without dashes, default, help).
     pub extra: &'static [(&'static str, &'static str, &'static str)],
+    /// Extra on/off flags that take no value: (name without dashes, help).
+    pub switches: &'static [(&'static str, &'static str)],
 }
 
 #[derive(Debug, Clone)]
@@ -44,6 +46,8 @@ pub struct Options {
     pub focus: f32,
     pub out: Option<PathBuf>,
     pub extra: HashMap<String, String>,
+    /// Names of the app's switches given on the command line.
+    pub switches: HashSet<String>,
 }
 
 impl Options {
@@ -92,6 +96,9 @@ pub fn usage(app: &AppInfo) -> String {
     for (n, d, h) in app.extra {
         s += &format!("  --{n:<20} {h} (default {d})\n");
     }
+    for (n, h) in app.switches {
+        s += &format!("  --{n:<20} {h}\n");
+    }
     s + "  --help                 this text\n"
 }
 
@@ -113,6 +120,7 @@ pub fn parse(args: &[String], app: &AppInfo) -> Result<Option<Options>, String> 
             .iter()
             .map(|(n, d, _)| (n.to_string(), d.to_string()))
             .collect(),
+        switches: HashSet::new(),
     };
     let mut tile = None;
     let mut it = args.iter();
@@ -120,6 +128,10 @@ pub fn parse(args: &[String], app: &AppInfo) -> Result<Option<Options>, String> 
         if flag == "--help" || flag == "-h" {
             print!("{}", usage(app));
             return Ok(None);
+        }
+        if let Some((n, _)) = app.switches.iter().find(|(n, _)| flag.strip_prefix("--") == Some(n)) {
+            o.switches.insert(n.to_string());
+            continue;
         }
         let val = it.next().ok_or_else(|| format!("{flag} needs a value"))?;
         match flag.as_str() {

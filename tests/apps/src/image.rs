@@ -28,11 +28,24 @@ pub fn read_rgb(gl: &Gl, w: u32, h: u32) -> Vec<u8> {
     rgb
 }
 
+/// OpenGL ES context? ES 2.0 has neither glReadBuffer nor GL_DRAW_BUFFER, and
+/// ES reads the one colour buffer of the default framebuffer anyway.
+pub fn is_es(gl: &Gl) -> bool {
+    let v = unsafe { gl.GetString(gl::VERSION) };
+    !v.is_null()
+        && unsafe { std::ffi::CStr::from_ptr(v.cast()) }
+            .to_bytes()
+            .starts_with(b"OpenGL ES")
+}
+
 /// Screenshot of the default framebuffer, from the buffer being drawn to
 /// (GL_BACK for double-buffered windows, GL_FRONT/BACK for pbuffers).
 pub fn read_default_framebuffer(gl: &Gl, w: u32, h: u32) -> Vec<u8> {
     unsafe {
         gl.BindFramebuffer(gl::FRAMEBUFFER, 0);
+        if is_es(gl) {
+            return read_rgb(gl, w, h);
+        }
         let mut buf = 0;
         gl.GetIntegerv(gl::DRAW_BUFFER, &mut buf);
         gl.ReadBuffer(buf as u32);

@@ -1,4 +1,5 @@
-//! Shared code of the holoinject sample apps (cubes, legacy, asteroids).
+//! Shared code of the holoinject sample apps (cubes, legacy, asteroids, model,
+//! skybox, compat120, gles).
 
 #[allow(
     clippy::all,

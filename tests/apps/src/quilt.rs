@@ -77,7 +77,10 @@ pub fn render(gl: &Gl, scene: &mut dyn Scene, frame: u64, o: &Options) -> Result
     }
     let rgb = unsafe {
         gl.Disable(gl::SCISSOR_TEST);
-        gl.ReadBuffer(gl::COLOR_ATTACHMENT0);
+        // COLOR_ATTACHMENT0 is the FBO default anyway; ES 2.0 lacks the call.
+        if !image::is_es(gl) {
+            gl.ReadBuffer(gl::COLOR_ATTACHMENT0);
+        }
         image::read_rgb(gl, w, h)
     };
     delete_fbo(gl, &fbo);

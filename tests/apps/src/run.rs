@@ -26,11 +26,21 @@ fn install_signal_handlers() {
 
 pub type MakeScene = dyn FnOnce(&Gl, &Options) -> Result<Box<dyn Scene>, String>;
 
-/// Entry point for every app binary.
+/// Entry point for every app binary with a fixed context profile.
 pub fn main(app: &AppInfo, profile: Profile, make: Box<MakeScene>) -> ExitCode {
+    main_with(app, &|_| Ok(profile), make)
+}
+
+/// Entry point for apps whose profile depends on their flags (`gles --es2`),
+/// or that refuse some back-ends.
+pub fn main_with(
+    app: &AppInfo,
+    profile: &dyn Fn(&Options) -> Result<Profile, String>,
+    make: Box<MakeScene>,
+) -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let result = cli::parse(&args, app).and_then(|o| match o {
-        Some(o) => run(&o, profile, make),
+        Some(o) => run(&o, profile(&o)?, make),
         None => Ok(()),
     });
     match result {

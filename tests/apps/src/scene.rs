@@ -1,5 +1,5 @@
 //! What an app implements, and what the runner tells it about each view.
-use crate::camera::sheared_projection;
+use crate::camera::{sheared_projection, sheared_projection_at_infinity};
 use crate::gl::Gl;
 use crate::math::Mat4;
 
@@ -35,6 +35,15 @@ impl View {
         match self.shear {
             None => p,
             Some(s) => sheared_projection(p, s.index, s.count, s.depthiness, s.convergence, s.focus),
+        }
+    }
+
+    /// The projection for far-plane (`.xyww`) geometry such as skyboxes, which
+    /// the layer shifts as if at infinity.
+    pub fn projection_at_infinity(&self, p: Mat4) -> Mat4 {
+        match self.shear {
+            None => p,
+            Some(s) => sheared_projection_at_infinity(p, s.index, s.count, s.depthiness, s.focus),
         }
     }
 }

@@ -158,6 +158,7 @@ fn main() -> ExitCode {
         about: "GL 3.3 core draw-call overhead benchmark (one glUniform + glDrawArrays per rock)",
         default_convergence: math::distance(EYE, CENTRE),
         extra: &[("draws", "5000", "rocks (draw calls) per frame")],
+        switches: &[],
     };
     holoapps::run::main(
         &info,

@@ -110,6 +110,7 @@ fn main() -> ExitCode {
         about: "GL 3.3 core lit cube grid (one draw call per cube)",
         default_convergence: math::distance(EYE, CENTRE),
         extra: &[],
+        switches: &[],
     };
     holoapps::run::main(
         &info,

@@ -173,6 +173,7 @@ fn main() -> ExitCode {
         about: "OpenGL 1.x fixed-function scene: immediate mode, display lists, fog, lighting, glOrtho HUD",
         default_convergence: (EYE_Y * EYE_Y + EYE_Z * EYE_Z).sqrt(),
         extra: &[],
+        switches: &[],
     };
     holoapps::run::main(
         &info,

@@ -16,10 +16,13 @@ const EGL_PBUFFER_BIT: EglInt = 0x1;
 const EGL_WINDOW_BIT: EglInt = 0x4;
 const EGL_RENDERABLE_TYPE: EglInt = 0x3040;
 const EGL_OPENGL_BIT: EglInt = 0x8;
+const EGL_OPENGL_ES2_BIT: EglInt = 0x4;
+const EGL_OPENGL_ES3_BIT: EglInt = 0x40;
 const EGL_NATIVE_VISUAL_ID: EglInt = 0x302E;
 const EGL_WIDTH: EglInt = 0x3057;
 const EGL_HEIGHT: EglInt = 0x3056;
 const EGL_OPENGL_API: u32 = 0x30A2;
+const EGL_OPENGL_ES_API: u32 = 0x30A0;
 const EGL_CONTEXT_MAJOR_VERSION: EglInt = 0x3098;
 const EGL_CONTEXT_MINOR_VERSION: EglInt = 0x30FB;
 const EGL_CONTEXT_OPENGL_PROFILE_MASK: EglInt = 0x30FD;
@@ -107,10 +110,32 @@ pub struct Egl {
     win: Option<XWindow>,
 }
 
+/// Client API and EGL_RENDERABLE_TYPE bit for a profile.
+fn api_for(profile: Profile) -> (u32, EglInt, &'static str) {
+    match profile {
+        Profile::Core33 | Profile::Legacy => (EGL_OPENGL_API, EGL_OPENGL_BIT, "EGL_OPENGL_API"),
+        Profile::Gles3 => (EGL_OPENGL_ES_API, EGL_OPENGL_ES3_BIT, "EGL_OPENGL_ES_API"),
+        Profile::Gles2 => (EGL_OPENGL_ES_API, EGL_OPENGL_ES2_BIT, "EGL_OPENGL_ES_API"),
+    }
+}
+
 fn context_attribs(profile: Profile) -> [EglInt; 7] {
     let (maj, min, mask) = match profile {
         Profile::Core33 => (3, 3, 1),
         Profile::Legacy => (2, 1, 2),
+        // ES has no profile mask (EGL_BAD_ATTRIBUTE); end the list early.
+        Profile::Gles3 => {
+            return [
+                EGL_CONTEXT_MAJOR_VERSION,
+                3,
+                EGL_CONTEXT_MINOR_VERSION,
+                0,
+                EGL_NONE,
+                0,
+                0,
+            ];
+        }
+        Profile::Gles2 => return [EGL_CONTEXT_MAJOR_VERSION, 2, EGL_NONE, 0, 0, 0, 0],
     };
     [
         EGL_CONTEXT_MAJOR_VERSION,
@@ -137,7 +162,7 @@ impl Egl {
             kind: "egl (surfaceless pbuffer)",
             win: None,
         };
-        let cfg = e.init(EGL_PBUFFER_BIT)?;
+        let cfg = e.init(EGL_PBUFFER_BIT, profile)?;
         let attrs = [EGL_WIDTH, size.0 as EglInt, EGL_HEIGHT, size.1 as EglInt, EGL_NONE];
         e.surface = unsafe { (e.api.create_pbuffer)(e.dpy, cfg, attrs.as_ptr()) };
         if e.surface.is_null() {
@@ -160,7 +185,7 @@ impl Egl {
             kind: "egl-x11",
             win: None,
         };
-        let cfg = e.init(EGL_WINDOW_BIT)?;
+        let cfg = e.init(EGL_WINDOW_BIT, profile)?;
         let win = unsafe { x_window_for(&e.api, dpy, cfg, xdpy, size)? };
         e.surface = unsafe { (e.api.create_window_surface)(e.dpy, cfg, win.win as usize, [EGL_NONE].as_ptr()) };
         e.win = Some(win);
@@ -171,18 +196,19 @@ impl Egl {
         Ok(e)
     }
 
-    fn init(&mut self, surface_type: EglInt) -> Result<Ptr, String> {
+    fn init(&mut self, surface_type: EglInt, profile: Profile) -> Result<Ptr, String> {
+        let (api, renderable, api_name) = api_for(profile);
         let a = &self.api;
         unsafe {
             if self.dpy.is_null() || (a.initialize)(self.dpy, ptr::null_mut(), ptr::null_mut()) == 0 {
                 return Err(a.err("eglGetPlatformDisplay/eglInitialize"));
             }
-            if (a.bind_api)(EGL_OPENGL_API) == 0 {
-                return Err(a.err("eglBindAPI(EGL_OPENGL_API)"));
+            if (a.bind_api)(api) == 0 {
+                return Err(a.err(&format!("eglBindAPI({api_name})")));
             }
             #[rustfmt::skip]
             let attrs = [
-                EGL_SURFACE_TYPE, surface_type, EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT,
+                EGL_SURFACE_TYPE, surface_type, EGL_RENDERABLE_TYPE, renderable,
                 0x3024, 8, 0x3023, 8, 0x3022, 8, 0x3021, 8, // R G B A
                 0x3025, 24, 0x3026, 8, EGL_NONE,             // depth stencil
             ];

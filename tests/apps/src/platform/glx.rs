@@ -71,6 +71,7 @@ fn context_attribs(profile: Profile) -> [c_int; 7] {
     let (maj, min, mask) = match profile {
         Profile::Core33 => (3, 3, GLX_CONTEXT_CORE_PROFILE_BIT_ARB),
         Profile::Legacy => (2, 1, GLX_CONTEXT_COMPATIBILITY_PROFILE_BIT_ARB),
+        Profile::Gles3 | Profile::Gles2 => unreachable!("refused in platform::create"),
     };
     [
         GLX_CONTEXT_MAJOR_VERSION_ARB,

@@ -15,6 +15,16 @@ pub enum Profile {
     Core33,
     /// Compatibility / legacy context with the fixed-function pipeline.
     Legacy,
+    /// OpenGL ES 3.0 (EGL back-ends only).
+    Gles3,
+    /// OpenGL ES 2.0 (EGL back-ends only).
+    Gles2,
+}
+
+impl Profile {
+    pub fn is_es(self) -> bool {
+        matches!(self, Profile::Gles3 | Profile::Gles2)
+    }
 }
 
 pub trait Platform {
@@ -25,6 +35,11 @@ pub trait Platform {
 }
 
 pub fn create(backend: Backend, size: (u32, u32), profile: Profile) -> Result<Box<dyn Platform>, String> {
+    // GLX and OSMesa can create ES contexts only through extensions that Mesa
+    // does not offer everywhere; EGL is the standard way to get one.
+    if profile.is_es() && !matches!(backend, Backend::Egl | Backend::EglX11) {
+        return Err(format!("{profile:?} needs --backend egl or egl-x11 (got {backend:?})"));
+    }
     Ok(match backend {
         Backend::Glx => Box::new(glx::Glx::new(size, profile)?),
         Backend::Egl => Box::new(egl::Egl::new_headless(size, profile)?),

@@ -51,6 +51,7 @@ impl OsMesa {
             let (prof, maj, min) = match profile {
                 Profile::Core33 => (OSMESA_CORE_PROFILE, 3, 3),
                 Profile::Legacy => (OSMESA_COMPAT_PROFILE, 2, 1),
+                Profile::Gles3 | Profile::Gles2 => unreachable!("refused in platform::create"),
             };
             #[rustfmt::skip]
             let attrs = [
