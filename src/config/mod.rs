@@ -2,7 +2,9 @@
 //! maps its options onto the same variables (`options::OPTIONS`), so running with
 //! `LD_PRELOAD` and the variables by hand behaves exactly like `holoinject run`.
 
+pub mod calibration;
 pub mod cli;
+pub mod device;
 pub mod options;
 pub mod parse;
 
@@ -46,9 +48,26 @@ pub struct ViewSettings {
     pub output: Output,
     pub quilt: (u32, u32),
     pub tile: Option<(u32, u32)>,
+    pub device: Option<device::Device>,
+    pub weave_filter: crate::output::weave::Filter,
     pub depthiness: Option<f64>,
     pub convergence: Convergence,
     pub focus: f64,
+}
+
+impl ViewSettings {
+    /// What was given explicitly wins; otherwise the device's quilt and native output, else
+    /// 8x6 tiles of the window's size and the quilt itself as output.
+    fn resolve(&mut self, quilt: Option<(u32, u32)>, tile: Option<(u32, u32)>, output: Option<Output>) {
+        let dev = self.device.as_ref().map(|d| d.quilt);
+        self.quilt = quilt.or(dev.map(|q| (q.columns, q.rows))).unwrap_or((8, 6));
+        self.tile = tile.or(dev.filter(|_| quilt.is_none()).map(|q| (q.tile_width, q.tile_height)));
+        self.output = output.unwrap_or(if self.device.is_some() {
+            Output::Native
+        } else {
+            Output::Quilt
+        });
+    }
 }
 
 impl Default for ViewSettings {
@@ -57,6 +76,8 @@ impl Default for ViewSettings {
             output: Output::Quilt,
             quilt: (8, 6),
             tile: None,
+            device: None,
+            weave_filter: crate::output::weave::Filter::BlendNext,
             depthiness: None,
             convergence: Convergence::Auto,
             focus: 0.0,
@@ -96,6 +117,7 @@ impl Settings {
     /// the variable) and replaced by its default, so the app keeps running.
     pub fn from_lookup(get: impl Fn(&str) -> Option<String>, report: &mut dyn FnMut(String)) -> Settings {
         let mut s = Settings::default();
+        let (mut quilt, mut tile, mut output) = (None, None, None);
         for opt in options::OPTIONS.iter().filter(|o| !o.launcher_only) {
             let var = opt.env_name();
             let Some(value) = get(&var) else { continue };
@@ -108,15 +130,18 @@ impl Settings {
                 "dump-frames" => s.dump_frames = parse::frames(&value).unwrap_or(FrameSet::Every(1)),
                 "exit-after" => s.exit_after = parse::frame_number(&value).ok(),
                 "osmesa-boundary" => s.osmesa_boundary = parse::boundary(&value).unwrap_or(Boundary::Finish),
-                "output" => s.view.output = parse::output(&value).unwrap_or(Output::Quilt),
-                "quilt" => s.view.quilt = parse::grid(&value).unwrap_or((8, 6)),
-                "tile" => s.view.tile = parse::grid(&value).ok(),
+                "output" => output = parse::output(&value).ok(),
+                "quilt" => quilt = parse::grid(&value).ok(),
+                "tile" => tile = parse::grid(&value).ok(),
+                "device" => s.view.device = device::load(&value).ok(),
+                "weave-filter" => s.view.weave_filter = parse::weave_filter(&value).unwrap_or(s.view.weave_filter),
                 "depthiness" => s.view.depthiness = parse::finite(&value).ok(),
                 "convergence" => s.view.convergence = parse::convergence(&value).unwrap_or(Convergence::Auto),
                 "focus" => s.view.focus = parse::finite(&value).unwrap_or(0.0),
                 _ => {}
             }
         }
+        s.view.resolve(quilt, tile, output);
         s
     }
 

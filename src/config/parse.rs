@@ -40,6 +40,20 @@ pub fn output(v: &str) -> Result<Output, String> {
     }
 }
 
+pub fn weave_filter(v: &str) -> Result<crate::output::weave::Filter, String> {
+    use crate::output::weave::Filter;
+    match v.trim() {
+        "nearest" => Ok(Filter::Nearest),
+        "blend" => Ok(Filter::BlendNext),
+        g => match g.strip_prefix("gaussian:").map(str::parse::<f32>) {
+            Some(Ok(sigma)) if sigma > 0.0 && sigma <= 8.0 => Ok(Filter::Gaussian { sigma }),
+            _ => Err(format!(
+                "`{v}`: expected nearest|blend|gaussian:SIGMA (SIGMA in views, 0 < SIGMA <= 8)"
+            )),
+        },
+    }
+}
+
 pub fn convergence(v: &str) -> Result<Convergence, String> {
     if v.trim() == "auto" {
         Ok(Convergence::Auto)

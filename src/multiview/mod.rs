@@ -54,6 +54,9 @@ pub struct Multiview {
     pub compiling_list: bool,
     pub immediate_list: u32,
     pub recording_immediate: bool,
+    /// Our full-screen passes and the native-resolution weave target.
+    pub passes: crate::output::pass::Passes,
+    pub native: Option<crate::output::native::NativeTarget>,
 }
 
 impl Multiview {
@@ -93,6 +96,8 @@ impl Multiview {
             compiling_list: false,
             immediate_list: 0,
             recording_immediate: false,
+            passes: Default::default(),
+            native: None,
         };
         mv.update_rig(layout);
         mv

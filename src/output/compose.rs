@@ -60,14 +60,15 @@ fn clear_window(gl: &Gl) {
 }
 
 /// Draws the quilt into the real default framebuffer (`window` pixels) as `output` asks.
-pub fn present(gl: &Gl, mv: &Multiview, window: (u32, u32), output: Output) -> Result<(), String> {
+pub fn present(gl: &Gl, mv: &mut Multiview, window: (u32, u32), output: Output) -> Result<(), String> {
     let target = mv.target.as_ref().ok_or("no quilt")?;
-    let layout: QuiltLayout = target.layout;
+    let (layout, quilt_fbo, quilt_tex): (QuiltLayout, u32, u32) = (target.layout, target.fbo, target.color);
     let _guard = StateGuard::new(gl, mv.info).framebuffers().for_pass();
+    crate::output::pass::neutral_state(gl, mv.info);
     // SAFETY: our quilt as the read source, the real default framebuffer as destination.
     unsafe {
         gl.Disable(SCISSOR_TEST);
-        gl.BindFramebuffer(READ_FRAMEBUFFER, target.fbo);
+        gl.BindFramebuffer(READ_FRAMEBUFFER, quilt_fbo);
         gl.BindFramebuffer(DRAW_FRAMEBUFFER, 0);
         gl.ReadBuffer(COLOR_ATTACHMENT0);
     }
@@ -89,10 +90,61 @@ pub fn present(gl: &Gl, mv: &Multiview, window: (u32, u32), output: Output) -> R
             blit(gl, corners(layout.tile_rect(l)), [0, 0, half, win[3]], LINEAR);
             blit(gl, corners(layout.tile_rect(r)), [half, 0, win[2], win[3]], LINEAR);
         }
-        Output::Anaglyph | Output::Native => {
-            return Err(format!("--output {output:?} is not available in this build yet"));
+        Output::Anaglyph => anaglyph(gl, mv, quilt_tex, layout, window)?,
+        Output::Native => {
+            let device = mv.settings.device.clone().ok_or("--output native needs --device")?;
+            let input = crate::output::native::WeaveInput {
+                device: &device,
+                quilt_texture: quilt_tex,
+                views: layout.views(),
+                grid: (layout.cols, layout.rows),
+                filter: mv.settings.weave_filter,
+            };
+            let t = crate::output::native::weave(gl, mv.info, &mut mv.passes, &mut mv.native, &input)?;
+            let (fbo, size) = (t.fbo, t.size);
+            // SAFETY: the woven image to the window, fitted.
+            unsafe {
+                gl.BindFramebuffer(READ_FRAMEBUFFER, fbo);
+                gl.BindFramebuffer(DRAW_FRAMEBUFFER, 0);
+            }
+            clear_window(gl);
+            let filter = if size == window { NEAREST } else { LINEAR };
+            blit(
+                gl,
+                [0, 0, size.0 as i32, size.1 as i32],
+                fit(size.0, size.1, window.0, window.1),
+                filter,
+            );
         }
     }
+    Ok(())
+}
+
+fn anaglyph(
+    gl: &Gl,
+    mv: &mut Multiview,
+    quilt_tex: u32,
+    layout: QuiltLayout,
+    window: (u32, u32),
+) -> Result<(), String> {
+    let program = mv
+        .passes
+        .program(gl, mv.info, "anaglyph", crate::output::pass::ANAGLYPH_FRAG)?;
+    let (l, r) = stereo_pair(layout.views());
+    let u = |n: &str| crate::output::pass::uniform(gl, program, n);
+    let (tl, tr) = (layout.tile_rect(l), layout.tile_rect(r));
+    // SAFETY: our program drawing into the real default framebuffer; state restored by the guard.
+    unsafe {
+        gl.Viewport(0, 0, window.0 as i32, window.1 as i32);
+        gl.UseProgram(program);
+        gl.ActiveTexture(TEXTURE0);
+        gl.BindTexture(TEXTURE_2D, quilt_tex);
+        gl.Uniform1i(u("u_quilt"), 0);
+        gl.Uniform4i(u("u_left"), tl[0], tl[1], tl[2], tl[3]);
+        gl.Uniform4i(u("u_right"), tr[0], tr[1], tr[2], tr[3]);
+        gl.Uniform2i(u("u_out_size"), window.0 as i32, window.1 as i32);
+    }
+    mv.passes.draw(gl);
     Ok(())
 }
 

@@ -40,3 +40,19 @@ pub fn quilt(
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     super::png::write_rgb(&dir.join(format!("f{frame:06}_{}.png", l.file_tag())), w, h, &rgb)
 }
+
+/// `DIR/f{frame:06}_native.png`: the lenticular image at the display's native resolution.
+pub fn native(
+    frame: u64,
+    gl: &crate::gl::Gl,
+    mv: &crate::multiview::Multiview,
+    settings: &Settings,
+) -> Result<(), String> {
+    let (Some(dir), Some(t)) = (settings.dump_dir.as_ref(), mv.native.as_ref()) else {
+        return Ok(());
+    };
+    let (w, h) = t.size;
+    let rgba = readback::read_rgba(gl, mv.info, readback::Source::Fbo(t.fbo), [0, 0, w as i32, h as i32])?;
+    let rgb = super::png::rgba_bottom_up_to_rgb_top_down(&rgba, w, h);
+    super::png::write_rgb(&dir.join(format!("f{frame:06}_native.png")), w, h, &rgb)
+}

@@ -4,6 +4,8 @@
 
 pub mod compose;
 mod dump;
+pub mod native;
+pub mod pass;
 pub mod png;
 mod surface;
 pub mod timing;
@@ -65,6 +67,15 @@ fn multiview_frame(frame: u64, surface: usize, settings: &crate::config::Setting
         if let Err(e) = compose::present(gl, mv, window, settings.view.output) {
             crate::log::once(&COMPOSE_FAILED, crate::log::Level::Error, format_args!("{e}"));
         }
+        if settings.dumps(frame) && settings.view.output == crate::config::Output::Native {
+            if let Err(e) = dump::native(frame, gl, mv, settings) {
+                crate::log::once(
+                    &DUMP_FAILED,
+                    crate::log::Level::Error,
+                    format_args!("native image of frame {frame} not dumped: {e}"),
+                );
+            }
+        }
         crate::multiview::update_convergence(gl, mv);
         crate::multiview::framebuffer::ensure_target(gl, mv, window);
     });
@@ -86,5 +97,4 @@ fn exit_after(frame: u64) -> ! {
     }
 }
 
-pub mod calibration;
 pub mod weave;

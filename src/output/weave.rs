@@ -19,7 +19,7 @@
 //! mixes it with the next view, `Gaussian` weighs views by their distance to `view`. Views are
 //! never wrapped from N-1 to 0: the two ends of the view cone are the most different images.
 
-use super::calibration::WeaveParams;
+use crate::config::calibration::WeaveParams;
 
 /// The largest `f32` below 1: `fract` can round up to 1 and `1 - fract` is 1 at 0.
 const ONE_BELOW: f32 = 0.999_999_94;
@@ -223,7 +223,7 @@ fn weave_row(q: &Quilt, params: &WeaveParams, filter: Filter, size: (u32, u32), 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::output::calibration::{DevicePreset, preset_names};
+    use crate::config::calibration::{DevicePreset, preset_names};
 
     /// Binary fractions throughout, so every step below is exact in f32.
     fn simple() -> WeaveParams {

@@ -11,7 +11,7 @@ use holoapps::scene::{Scene, View, seconds};
 use holoapps::shader;
 use std::process::ExitCode;
 
-const EYE: [f32; 3] = [0.0, 3.0, 8.0];
+const EYE: [f32; 3] = [0.0, 2.5, 6.0];
 const CENTRE: [f32; 3] = [0.0, 0.0, 0.0];
 
 const VS3: &str = r#"#version 300 es

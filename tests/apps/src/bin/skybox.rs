@@ -84,7 +84,7 @@ fn face_pixels(face: usize) -> Vec<u8> {
         for x in 0..FACE {
             let g = 0.45 + 0.55 * y as f32 / (FACE - 1) as f32;
             let line = x % 16 == 0 || y % 16 == 0;
-            let dot = (x - FACE / 2).pow(2) + (y - FACE / 2).pow(2) < 100;
+            let dot = (x - FACE / 2).pow(2) + (y - FACE / 2).pow(2) < 30;
             for c in HUES[face] {
                 let v = if dot {
                     1.0

@@ -1,0 +1,112 @@
+//! The lenticular weave (`--output native`, DESIGN §4) on the GPU: the quilt woven into a
+//! framebuffer of the display's native resolution by `glsl-patches/lenticular.frag` (the GPU
+//! twin of `weave::weave_cpu`), then shown in the window — 1:1 when the window is the
+//! display, fitted otherwise.
+
+use super::pass::{self, Passes};
+use super::weave::Filter;
+use crate::config::device::Device;
+use crate::gl::*;
+use crate::state::GlInfo;
+
+/// The native-resolution target, created on first use per context.
+pub struct NativeTarget {
+    pub fbo: u32,
+    pub color: u32,
+    pub size: (u32, u32),
+}
+
+impl NativeTarget {
+    fn create(gl: &Gl, size: (u32, u32)) -> NativeTarget {
+        let (mut fbo, mut color) = (0, 0);
+        // SAFETY: our own texture and framebuffer; the caller's guard restores bindings.
+        unsafe {
+            gl.GenTextures(1, &mut color);
+            gl.BindTexture(TEXTURE_2D, color);
+            gl.TexStorage2D(TEXTURE_2D, 1, RGBA8, size.0 as i32, size.1 as i32);
+            gl.GenFramebuffers(1, &mut fbo);
+            gl.BindFramebuffer(DRAW_FRAMEBUFFER, fbo);
+            gl.FramebufferTexture2D(DRAW_FRAMEBUFFER, COLOR_ATTACHMENT0, TEXTURE_2D, color, 0);
+        }
+        NativeTarget { fbo, color, size }
+    }
+}
+
+fn set_uniforms(
+    gl: &Gl,
+    program: u32,
+    device: &Device,
+    views: u32,
+    grid: (u32, u32),
+    filter: Filter,
+    size: (u32, u32),
+) {
+    let p = device.calibration.weave_params(views);
+    let u = |name: &str| pass::uniform(gl, program, name);
+    let (mode, sigma) = match filter {
+        Filter::Gaussian { sigma } => (2, sigma),
+        f => (f.mode(), 1.0),
+    };
+    let cells: Vec<f32> = p.cells.iter().flat_map(|c| c.iter().copied()).collect();
+    // SAFETY: uniforms of our own bound program; array length matches the cell count.
+    unsafe {
+        gl.Uniform1i(u("u_quilt"), 0);
+        gl.Uniform1f(u("u_pitch"), p.pitch);
+        gl.Uniform1f(u("u_tilt"), p.tilt);
+        gl.Uniform1f(u("u_subp"), p.subp);
+        gl.Uniform1f(u("u_center"), p.center);
+        gl.Uniform1i(u("u_inv_view"), p.inv_view as i32);
+        gl.Uniform1i(u("u_flip_subp"), p.flip_subp as i32);
+        gl.Uniform1i(u("u_view_count"), views as i32);
+        gl.Uniform1i(u("u_cols"), grid.0 as i32);
+        gl.Uniform1i(u("u_rows"), grid.1 as i32);
+        gl.Uniform1i(u("u_filter"), mode);
+        gl.Uniform1f(u("u_sigma"), sigma);
+        gl.Uniform1i(u("u_cell_pattern"), p.cell_pattern as i32);
+        gl.Uniform1i(u("u_cell_count"), p.cells.len().min(16) as i32);
+        if !cells.is_empty() {
+            gl.Uniform2fv(u("u_cells"), (cells.len() / 2).min(48) as i32, cells.as_ptr());
+        }
+        gl.Uniform2i(u("u_out_size"), size.0 as i32, size.1 as i32);
+    }
+}
+
+pub struct WeaveInput<'a> {
+    pub device: &'a Device,
+    pub quilt_texture: u32,
+    pub views: u32,
+    pub grid: (u32, u32),
+    pub filter: Filter,
+}
+
+/// Weaves the quilt into the native target (created or resized as needed); returns it.
+pub fn weave<'t>(
+    gl: &Gl,
+    info: GlInfo,
+    passes: &mut Passes,
+    target: &'t mut Option<NativeTarget>,
+    input: &WeaveInput,
+) -> Result<&'t NativeTarget, String> {
+    let size = (input.device.calibration.screen_w, input.device.calibration.screen_h);
+    if target.as_ref().is_some_and(|t| t.size != size) {
+        let t = target.take().unwrap();
+        // SAFETY: deleting our own objects.
+        unsafe {
+            gl.DeleteFramebuffers(1, &t.fbo);
+            gl.DeleteTextures(1, &t.color);
+        }
+    }
+    let program = passes.program(gl, info, "lenticular", pass::LENTICULAR_FRAG)?;
+    let t = target.get_or_insert_with(|| NativeTarget::create(gl, size));
+    // SAFETY: drawing our pass into our target; the caller's guard restores state.
+    unsafe {
+        gl.BindFramebuffer(DRAW_FRAMEBUFFER, t.fbo);
+        gl.Viewport(0, 0, size.0 as i32, size.1 as i32);
+        gl.UseProgram(program);
+        gl.ActiveTexture(TEXTURE0);
+        gl.BindTexture(TEXTURE_2D, input.quilt_texture);
+    }
+    set_uniforms(gl, program, input.device, input.views, input.grid, input.filter, size);
+    passes.draw(gl);
+    Ok(t)
+}
