@@ -89,6 +89,82 @@ fn assert_replay_identical(test: &str, api: &str, retrace: &str, program: &[&str
     assert_identical(&expected, &actual);
 }
 
+/// Frame `frame` of a replay under the layer as a 5x1 quilt: its centre tile must be the
+/// plain frame (up to llvmpipe's viewport-offset rounding, ≤ 0.05% of pixels) and the views
+/// right of centre must move further the further they are.
+fn assert_replay_quilt(test: &str, api: &str, retrace: &str, program: &[&str], seconds: &str, frame: u32) {
+    let dir = temp_dir(test);
+    let trace = record(&dir, test, api, program, seconds);
+    let plain = read_png(&plain_snapshot(&dir, retrace, &trace, frame));
+    let dump = dir.join("quilt");
+    let n = frame.to_string();
+    let args = [
+        "run",
+        "--quilt",
+        "5x1",
+        "--depthiness",
+        "0.1",
+        "--log",
+        "info",
+        "--dump",
+        dump.to_str().unwrap(),
+        "--dump-frames",
+        &n,
+        "--exit-after",
+        &n,
+        "--",
+        retrace,
+        trace.to_str().unwrap(),
+    ];
+    assert_success(&run(&launcher(), &args, &[]), "replay under the layer");
+    let aspect = holoinject::multiview::layout::QuiltLayout::new((5, 1), None, (plain.width, plain.height)).file_tag();
+    let quilt = read_png(&dump.join(format!("f{frame:06}_{aspect}.png")));
+    let centre = tile(&quilt, 5, 1, 2);
+    let differing = plain
+        .rgb
+        .chunks(3)
+        .zip(centre.rgb.chunks(3))
+        .filter(|(a, b)| a != b)
+        .count();
+    let limit = (plain.width * plain.height) as usize / 2000;
+    assert!(
+        differing <= limit,
+        "{test}: centre tile differs from the plain frame in {differing} pixels (limit {limit})"
+    );
+    let shifts: Vec<i32> = [3, 4]
+        .iter()
+        .map(|&i| horizontal_shift(&centre, &tile(&quilt, 5, 1, i), 30).abs())
+        .collect();
+    eprintln!("{test}: centre differs in {differing} px; shifts of views 3, 4: {shifts:?}");
+    assert!(
+        shifts[0] > 0 && shifts[1] > shifts[0],
+        "{test}: no growing parallax: {shifts:?}"
+    );
+}
+
+#[test]
+fn es2gears_quilt_has_parallax_and_exact_centre() {
+    assert_replay_quilt("es2gears_quilt", "egl", "eglretrace", &["es2gears_x11"], "1.5", 10);
+}
+
+macro_rules! glmark2_quilt_tests {
+    ($($name:ident: $bench:literal;)*) => {$(
+        #[test]
+        fn $name() {
+            let prog = ["glmark2", "-s", "400x300", "-b", concat!($bench, ":duration=0.4")];
+            assert_replay_quilt(stringify!($name), "gl", "glretrace", &prog, "20", 12);
+        }
+    )*};
+}
+
+glmark2_quilt_tests! {
+    glmark2_build_quilt: "build:use-vbo=true";
+    glmark2_texture_quilt: "texture";
+    glmark2_shading_quilt: "shading:shading=phong";
+    glmark2_bump_quilt: "bump:bump-render=normals";
+    glmark2_pulsar_quilt: "pulsar";
+}
+
 #[test]
 fn glxgears_passthrough_is_pixel_identical() {
     assert_replay_identical("glxgears", "gl", "glretrace", &["glxgears"], "1.5", 10);

@@ -12,37 +12,47 @@ use std::path::Path;
 use util::*;
 
 const FRAMES: &str = "3";
+const SIZE: &str = "320x240";
 
 fn backend_env(backend: &str) {
-    if backend == "glx" {
+    if backend.starts_with("glx") || backend.ends_with("x11") {
         require_display();
     }
 }
 
+/// `"gles --es2"` → the app's path and its extra arguments.
+fn split_app(spec: &str) -> (std::path::PathBuf, Vec<&str>) {
+    let mut words = spec.split_whitespace();
+    (app(words.next().unwrap()), words.collect())
+}
+
+fn dir_for(kind: &str, spec: &str, backend: &str) -> std::path::PathBuf {
+    temp_dir(&format!("{kind}_{}_{backend}", spec.replace(' ', "")))
+}
+
 /// The app's own screenshot of frame 3, without the layer.
-fn plain_screenshot(dir: &Path, app_name: &str, backend: &str, size: &str) -> std::path::PathBuf {
+fn plain_screenshot(dir: &Path, spec: &str, backend: &str) -> std::path::PathBuf {
     let shot = dir.join("plain.png");
-    let out = run(
-        &app(app_name),
-        &[
-            "--backend",
-            backend,
-            "--size",
-            size,
-            "--frames",
-            FRAMES,
-            "--screenshot",
-            shot.to_str().unwrap(),
-        ],
-        &[],
-    );
-    assert_success(&out, "plain run");
+    let (path, extra) = split_app(spec);
+    let mut args = vec![
+        "--backend",
+        backend,
+        "--size",
+        SIZE,
+        "--frames",
+        FRAMES,
+        "--screenshot",
+        shot.to_str().unwrap(),
+    ];
+    args.extend(extra);
+    assert_success(&run(&path, &args, &[]), "plain run");
     shot
 }
 
-fn injected(dir: &Path, app_name: &str, backend: &str, size: &str, layer: &[&str]) -> std::process::Output {
+fn injected(dir: &Path, spec: &str, backend: &str, layer: &[&str]) -> std::process::Output {
     let dump = dir.join("dump");
     let shot = dir.join("injected-screenshot.png");
+    let (path, extra) = split_app(spec);
     let mut args = vec![
         "run",
         "--log",
@@ -55,18 +65,18 @@ fn injected(dir: &Path, app_name: &str, backend: &str, size: &str, layer: &[&str
         FRAMES,
     ];
     args.extend_from_slice(layer);
-    let app_path = app(app_name);
     args.extend([
         "--",
-        app_path.to_str().unwrap(),
+        path.to_str().unwrap(),
         "--backend",
         backend,
         "--size",
-        size,
+        SIZE,
         "--frames",
         FRAMES,
     ]);
     args.extend(["--screenshot", shot.to_str().unwrap()]);
+    args.extend(extra);
     let out = run(&launcher(), &args, &[]);
     assert_success(&out, "run under the layer");
     assert!(
@@ -77,29 +87,30 @@ fn injected(dir: &Path, app_name: &str, backend: &str, size: &str, layer: &[&str
     out
 }
 
-fn passthrough_identical(app_name: &str, backend: &str) {
+fn passthrough_identical(spec: &str, backend: &str) {
     backend_env(backend);
-    let dir = temp_dir(&format!("passthrough_{app_name}_{backend}"));
-    let plain = plain_screenshot(&dir, app_name, backend, "320x240");
-    injected(&dir, app_name, backend, "320x240", &["--output", "mono"]);
-    assert!(has_content(&plain), "{app_name} rendered a blank frame");
+    let dir = dir_for("passthrough", spec, backend);
+    let plain = plain_screenshot(&dir, spec, backend);
+    injected(&dir, spec, backend, &["--output", "mono"]);
+    assert!(has_content(&plain), "{spec} rendered a blank frame");
     assert_identical(&plain, &dir.join("dump/f000003_out.png"));
 }
 
-fn quilt_matches_reference(app_name: &str, backend: &str, quilt: &str) {
+fn quilt_matches_reference(spec: &str, backend: &str, quilt: &str) {
     backend_env(backend);
-    let dir = temp_dir(&format!("quilt_{app_name}_{backend}_{quilt}"));
+    let dir = dir_for(&format!("quilt{quilt}"), spec, backend);
     let (cols, rows) = quilt
         .split_once('x')
         .map(|(c, r)| (c.parse::<u32>().unwrap(), r.parse::<u32>().unwrap()))
         .unwrap();
     let rig = ["--depthiness", "0.12", "--convergence", "9", "--focus", "0.01"];
     let reference = dir.join("reference.png");
+    let (path, extra) = split_app(spec);
     let mut args = vec![
         "--backend",
         backend,
         "--size",
-        "320x240",
+        SIZE,
         "--frames",
         FRAMES,
         "--reference-quilt",
@@ -108,10 +119,11 @@ fn quilt_matches_reference(app_name: &str, backend: &str, quilt: &str) {
         reference.to_str().unwrap(),
     ];
     args.extend(rig);
-    assert_success(&run(&app(app_name), &args, &[]), "reference quilt");
+    args.extend(extra);
+    assert_success(&run(&path, &args, &[]), "reference quilt");
     let mut layer = vec!["--output", "quilt", "--quilt", quilt];
     layer.extend(rig);
-    injected(&dir, app_name, backend, "320x240", &layer);
+    injected(&dir, spec, backend, &layer);
     let quilt_png = dir.join(format!("dump/f000003_qs{quilt}a1.3333.png"));
     let psnr = tile_psnr(&read_png(&reference), &read_png(&quilt_png), cols, rows);
     let worst = psnr.iter().copied().fold(f64::INFINITY, f64::min);
@@ -121,15 +133,19 @@ fn quilt_matches_reference(app_name: &str, backend: &str, quilt: &str) {
     } else {
         finite.iter().sum::<f64>() / finite.len() as f64
     };
-    eprintln!("{app_name} {backend} {quilt}: per-tile PSNR mean {mean:.2} dB (finite tiles), worst {worst:.2} dB");
+    let identical = psnr.len() - finite.len();
+    eprintln!(
+        "{spec} {backend} {quilt}: {identical}/{} tiles identical; others mean {mean:.2} dB, worst tile {worst:.2} dB",
+        psnr.len()
+    );
     assert!(
         worst >= 40.0,
-        "{app_name} {backend} {quilt}: worst tile {worst:.2} dB < 40 dB: {psnr:?}"
+        "{spec} {backend} {quilt}: worst tile {worst:.2} dB < 40 dB: {psnr:?}"
     );
     if (cols * rows) % 2 == 1 {
         let centre = tile(&read_png(&quilt_png), cols, rows, cols * rows / 2);
         save(&centre, &dir.join("centre.png"));
-        let plain = plain_screenshot(&dir, app_name, backend, "320x240");
+        let plain = plain_screenshot(&dir, spec, backend);
         assert_nearly_identical(&plain, &dir.join("centre.png"));
         // The app's own glReadPixels of framebuffer 0 sees the centre view too.
         assert_nearly_identical(&plain, &dir.join("injected-screenshot.png"));
@@ -138,16 +154,25 @@ fn quilt_matches_reference(app_name: &str, backend: &str, quilt: &str) {
 
 /// The centre tile is rendered with the same clip coordinates as the app's own frame (the
 /// shift is exactly zero there), but llvmpipe rounds window coordinates after adding the
-/// viewport offset of the tile, so a vertex can snap to a neighbouring sub-pixel and flip a
-/// pixel on an edge. The app's own reference quilt shows the same: measured 1 pixel of
-/// 76,800 for every app and back-end. More than 16 (0.02%) means a real difference.
+/// viewport offset of the tile: a vertex can snap to a neighbouring sub-pixel and flip a
+/// pixel on an edge, and interpolated texture coordinates and lighting can round one level
+/// differently. The app's own reference quilt shows the same. Measured: at most 11 edge
+/// pixels of 76,800 (compat120), plus a few hundred pixels one level off (textured `model`).
+/// More than 16 pixels off by more than one level means a real difference.
 fn assert_nearly_identical(expected: &Path, actual: &Path) {
     let (e, a) = (read_png(expected), read_png(actual));
     assert_eq!((e.width, e.height), (a.width, a.height));
-    let differing = e.rgb.chunks(3).zip(a.rgb.chunks(3)).filter(|(x, y)| x != y).count();
+    let off = |lsb: u8| {
+        e.rgb
+            .chunks(3)
+            .zip(a.rgb.chunks(3))
+            .filter(|(x, y)| x.iter().zip(y.iter()).any(|(p, q)| p.abs_diff(*q) > lsb))
+            .count()
+    };
+    let (edges, any) = (off(1), off(0));
     assert!(
-        differing <= 16,
-        "{differing} pixels differ between {} and {}",
+        edges <= 16,
+        "{edges} pixels ({any} counting 1-level rounding) differ: {} vs {}",
         expected.display(),
         actual.display()
     );
@@ -182,6 +207,19 @@ sample_app_tests! {
     asteroids_glx: "asteroids", "glx";
     asteroids_egl: "asteroids", "egl";
     asteroids_osmesa: "asteroids", "osmesa";
+    model_glx: "model", "glx";
+    model_egl: "model", "egl";
+    model_osmesa: "model", "osmesa";
+    skybox_glx: "skybox", "glx";
+    skybox_egl: "skybox", "egl";
+    skybox_osmesa: "skybox", "osmesa";
+    compat120_glx: "compat120", "glx";
+    compat120_egl: "compat120", "egl";
+    compat120_osmesa: "compat120", "osmesa";
+    gles3_egl: "gles", "egl";
+    gles3_egl_x11: "gles", "egl-x11";
+    gles2_egl: "gles --es2", "egl";
+    gles2_egl_x11: "gles --es2", "egl-x11";
 }
 
 #[test]
@@ -193,7 +231,6 @@ fn side_tiles_show_parallax_growing_with_view_distance() {
         &dir,
         "cubes",
         "egl",
-        "320x240",
         &["--quilt", "9x1", "--depthiness", "0.1", "--convergence", "0.01"],
     );
     let q = read_png(&dir.join("dump/f000003_qs9x1a1.3333.png"));

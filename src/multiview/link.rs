@@ -131,14 +131,16 @@ fn record(gl: &Gl, group: &ShareGroup, program: u32, analysis: &shader::Analysis
     } else {
         -1
     };
-    let builtin = analysis.matrix_uniforms.iter().any(|n| n.starts_with("gl_"));
-    let matrix_locs = analysis
-        .matrix_uniforms
-        .iter()
+    // Only the leftmost matrix of the chain says what the projection is (P, VP or MVP); a
+    // model matrix further right would look orthographic. When the leftmost one lives in a
+    // uniform block (location -1) the projection stays unknown and the shader decides per
+    // vertex.
+    let leftmost = analysis.matrix_uniforms.first();
+    let builtin = leftmost.is_some_and(|n| n.starts_with("gl_"));
+    let projection_loc = leftmost
         .filter(|n| !n.starts_with("gl_"))
         .map(|n| uniform_location(gl, program, n))
-        .filter(|&l| l >= 0)
-        .collect();
+        .filter(|&l| l >= 0);
     crate::log::debug(format_args!(
         "program {program}: {:?}, view uniform at {view_loc}, matrices {:?}",
         analysis.position_kind, analysis.matrix_uniforms
@@ -146,5 +148,5 @@ fn record(gl: &Gl, group: &ShareGroup, program: u32, analysis: &shader::Analysis
     group
         .lock()
         .programs
-        .insert(program, super::replay::program_info(view_loc, matrix_locs, builtin));
+        .insert(program, super::replay::program_info(view_loc, projection_loc, builtin));
 }

@@ -67,9 +67,8 @@ fn shift_for(gl: &Gl, mv: &mut Multiview, group: &ShareGroup) -> Shift {
     let matrix = if info.builtin_projection {
         fixed_function_projection(gl)
     } else {
-        info.matrix_locs
-            .first()
-            .and_then(|&loc| state.matrices.get(&(mv.program, loc)).copied())
+        info.projection_loc
+            .and_then(|loc| state.matrices.get(&(mv.program, loc)).copied())
     };
     let loc = info.view_loc;
     drop(state);
@@ -179,10 +178,10 @@ fn restore(gl: &Gl, mv: &Multiview, scissored: bool, shift: &Shift, group: &Shar
 }
 
 /// Link-time facts about a program, as the replay needs them.
-pub fn program_info(view_loc: i32, matrix_locs: Vec<i32>, builtin_projection: bool) -> ProgramInfo {
+pub fn program_info(view_loc: i32, projection_loc: Option<i32>, builtin_projection: bool) -> ProgramInfo {
     ProgramInfo {
         view_loc,
-        matrix_locs,
+        projection_loc,
         builtin_projection,
         centre_set: false,
     }

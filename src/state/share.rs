@@ -10,8 +10,9 @@ use std::sync::{Mutex, MutexGuard};
 pub struct ProgramInfo {
     /// Location of `holoinject_view`, or -1 when the program was left untouched.
     pub view_loc: i32,
-    /// Locations of the matrix uniforms in the gl_Position expression, leftmost first.
-    pub matrix_locs: Vec<i32>,
+    /// Location of the leftmost matrix uniform of the gl_Position expression (P, VP or MVP),
+    /// when it is a plain uniform whose uploads we see.
+    pub projection_loc: Option<i32>,
     /// gl_Position comes from the compatibility built-ins (`ftransform`, `gl_ModelView…`).
     pub builtin_projection: bool,
     /// The view uniform holds the centre view's values (so single draws need no update).
