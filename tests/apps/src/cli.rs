@@ -48,6 +48,10 @@ pub struct Options {
     pub extra: HashMap<String, String>,
     /// Names of the app's switches given on the command line.
     pub switches: HashSet<String>,
+    /// Benchmark: render the reference quilt every frame.
+    pub bench_quilt: bool,
+    /// Print the median frame time at exit.
+    pub timing: bool,
 }
 
 impl Options {
@@ -88,7 +92,9 @@ pub fn usage(app: &AppInfo) -> String {
          --depthiness S         shear strength (default 0.1)\n\
          --convergence C        eye-space convergence distance (default {conv})\n\
          --focus F              extra horizontal shift (default 0)\n\
-         --out PATH             quilt PNG path (required with --reference-quilt)\n",
+         --out PATH             quilt PNG path (required with --reference-quilt)\n\
+         --bench-quilt          render the reference quilt every frame (benchmark; implies --timing)\n\
+         --timing               print the median frame time to stderr at exit\n",
         name = app.name,
         about = app.about,
         conv = app.default_convergence
@@ -121,6 +127,8 @@ pub fn parse(args: &[String], app: &AppInfo) -> Result<Option<Options>, String> 
             .map(|(n, d, _)| (n.to_string(), d.to_string()))
             .collect(),
         switches: HashSet::new(),
+        bench_quilt: false,
+        timing: false,
     };
     let mut tile = None;
     let mut it = args.iter();
@@ -128,6 +136,11 @@ pub fn parse(args: &[String], app: &AppInfo) -> Result<Option<Options>, String> 
         if flag == "--help" || flag == "-h" {
             print!("{}", usage(app));
             return Ok(None);
+        }
+        if flag == "--bench-quilt" || flag == "--timing" {
+            o.bench_quilt |= flag == "--bench-quilt";
+            o.timing = true;
+            continue;
         }
         if let Some((n, _)) = app.switches.iter().find(|(n, _)| flag.strip_prefix("--") == Some(n)) {
             o.switches.insert(n.to_string());

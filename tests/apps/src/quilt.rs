@@ -51,6 +51,53 @@ pub fn render(gl: &Gl, scene: &mut dyn Scene, frame: u64, o: &Options) -> Result
     let (cols, rows) = o.quilt.expect("quilt mode");
     let (w, h) = (cols * o.tile.0, rows * o.tile.1);
     let fbo = create_fbo(gl, w as i32, h as i32)?;
+    render_views(gl, scene, frame, o, (cols, rows));
+    read_back_and_write(gl, fbo, o, w, h)
+}
+
+/// `--bench-quilt`: the app's own cost of a quilt, every frame, into one persistent FBO,
+/// shown in the window like the layer's `--output quilt` (so both pay for the final blit).
+pub struct BenchQuilt {
+    fbo: Fbo,
+    size: (i32, i32),
+}
+
+impl BenchQuilt {
+    pub fn new(gl: &Gl, o: &Options) -> Result<BenchQuilt, String> {
+        let (cols, rows) = o.quilt.ok_or("--bench-quilt needs --reference-quilt CxR")?;
+        let size = ((cols * o.tile.0) as i32, (rows * o.tile.1) as i32);
+        Ok(BenchQuilt {
+            fbo: create_fbo(gl, size.0, size.1)?,
+            size,
+        })
+    }
+
+    pub fn frame(&self, gl: &Gl, scene: &mut dyn Scene, frame: u64, o: &Options, window: (u32, u32)) {
+        unsafe { gl.BindFramebuffer(gl::FRAMEBUFFER, self.fbo.fbo) };
+        render_views(gl, scene, frame, o, o.quilt.unwrap());
+        unsafe {
+            gl.Disable(gl::SCISSOR_TEST);
+            gl.BindFramebuffer(gl::READ_FRAMEBUFFER, self.fbo.fbo);
+            gl.BindFramebuffer(gl::DRAW_FRAMEBUFFER, 0);
+            let (w, h) = (window.0 as i32, window.1 as i32);
+            gl.BlitFramebuffer(
+                0,
+                0,
+                self.size.0,
+                self.size.1,
+                0,
+                0,
+                w,
+                h,
+                gl::COLOR_BUFFER_BIT,
+                gl::LINEAR,
+            );
+            gl.BindFramebuffer(gl::FRAMEBUFFER, 0);
+        }
+    }
+}
+
+fn render_views(gl: &Gl, scene: &mut dyn Scene, frame: u64, o: &Options, (cols, rows): (u32, u32)) {
     let n = (cols * rows) as usize;
     for i in 0..n {
         let viewport = tile_rect(i as u32, cols, o.tile);
@@ -62,7 +109,6 @@ pub fn render(gl: &Gl, scene: &mut dyn Scene, frame: u64, o: &Options) -> Result
             focus: o.focus,
         };
         unsafe {
-            // Scissor keeps each view's glClear inside its own tile.
             gl.Enable(gl::SCISSOR_TEST);
             gl.Scissor(viewport[0], viewport[1], viewport[2], viewport[3]);
         }
@@ -75,6 +121,9 @@ pub fn render(gl: &Gl, scene: &mut dyn Scene, frame: u64, o: &Options) -> Result
             },
         );
     }
+}
+
+fn read_back_and_write(gl: &Gl, fbo: Fbo, o: &Options, w: u32, h: u32) -> Result<(), String> {
     let rgb = unsafe {
         gl.Disable(gl::SCISSOR_TEST);
         // COLOR_ATTACHMENT0 is the FBO default anyway; ES 2.0 lacks the call.

@@ -113,9 +113,17 @@ fn run(o: &Options, profile: Profile, make: Box<MakeScene>) -> Result<(), String
     };
     let mut times = Vec::new();
     let mut frame = 0u64;
+    let bench = if o.bench_quilt {
+        Some(quilt::BenchQuilt::new(&gl, o)?)
+    } else {
+        None
+    };
     while !STOP.load(Ordering::SeqCst) && last.is_none_or(|l| frame <= l) {
         let start = Instant::now();
-        scene.render(&gl, frame, &normal);
+        match &bench {
+            Some(b) => b.frame(&gl, scene.as_mut(), frame, o, (w, h)),
+            None => scene.render(&gl, frame, &normal),
+        }
         let mut elapsed = start.elapsed();
         if frame == 0 {
             check_gl_error(&gl, "after the first frame");
@@ -124,7 +132,7 @@ fn run(o: &Options, profile: Profile, make: Box<MakeScene>) -> Result<(), String
             if let Some(path) = &o.screenshot {
                 image::write_png(path, w, h, &image::read_default_framebuffer(&gl, w, h))?;
             }
-            if o.quilt.is_some() {
+            if o.quilt.is_some() && bench.is_none() {
                 quilt::render(&gl, scene.as_mut(), frame, o)?;
                 check_gl_error(&gl, "after the quilt pass");
             }
@@ -135,6 +143,22 @@ fn run(o: &Options, profile: Profile, make: Box<MakeScene>) -> Result<(), String
         times.push(elapsed.as_secs_f64() * 1000.0);
         frame += 1;
     }
+    if o.timing {
+        print_timing(o, &times);
+    }
     scene.finish(&times);
     Ok(())
+}
+
+/// `--timing`: median CPU wall time per frame (render + end of frame), after 10 warm-up
+/// frames; llvmpipe renders synchronously, so this is the frame's full cost.
+fn print_timing(o: &Options, frame_ms: &[f64]) {
+    let mut ms: Vec<f64> = frame_ms.iter().skip(10).copied().collect();
+    ms.sort_by(f64::total_cmp);
+    let median = if ms.is_empty() { 0.0 } else { ms[ms.len() / 2] };
+    let mode = if o.bench_quilt { "reference-quilt" } else { "normal" };
+    eprintln!(
+        "timing: mode={mode} frames={} median_frame_ms={median:.3}",
+        frame_ms.len()
+    );
 }
