@@ -19,7 +19,7 @@ for r in $(seq "$rounds"); do
   injected+=("$("$bin/holoinject" run --output mono -- "${app[@]}" 2>&1 >/dev/null | median_ms)")
   echo "round $r: plain ${plain[-1]} ms, preloaded ${injected[-1]} ms" >&2
 done
-python3 - "${plain[*]}" "${injected[*]}" "$draws" "$frames" <<'PY'
+/usr/bin/python3 - "${plain[*]}" "${injected[*]}" "$draws" "$frames" <<'PY'
 import statistics, sys
 plain = [float(x) for x in sys.argv[1].split()]
 inj = [float(x) for x in sys.argv[2].split()]

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Exact-quilt benchmarks (DESIGN §6), all ratios measured within one run.
 
 1. Injection cost: t(injected exact quilt) / t(app's own reference quilt), `cubes`, 8x6

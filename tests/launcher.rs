@@ -129,3 +129,23 @@ fn help_documents_every_option() {
         assert!(text.contains(&format!("--{}", o.long)), "--{} undocumented", o.long);
     }
 }
+
+#[test]
+fn readme_documents_every_option() {
+    let readme = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md")).unwrap();
+    for o in holoinject::config::options::OPTIONS {
+        assert!(
+            readme.contains(&format!("`--{}", o.long)),
+            "--{} is not documented in README.md",
+            o.long
+        );
+    }
+}
+
+#[test]
+fn readme_test_command_is_what_ci_runs() {
+    let readme = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md")).unwrap();
+    let ci = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/.ci/run")).unwrap();
+    let command = "scripts/setup-debian.sh && scripts/test.sh";
+    assert!(readme.contains(command) && ci.lines().any(|l| l.trim() == command));
+}
