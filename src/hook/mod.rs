@@ -60,6 +60,7 @@ pub fn is_active() -> bool {
 /// Test hook: `HOLOINJECT_TEST_FAIL=NAME` makes the handler of NAME panic (see `handlers`).
 pub fn handler_panicked(id: usize) {
     if !DISABLED.swap(true, Ordering::Relaxed) {
+        let _ = std::panic::catch_unwind(crate::multiview::abandon);
         crate::log::error(format_args!(
             "internal error in the {} hook; the layer is now pass-through for the rest of this run",
             HOOKS[id].name.to_string_lossy()

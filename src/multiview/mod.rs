@@ -54,6 +54,8 @@ pub struct Multiview {
     pub compiling_list: bool,
     pub immediate_list: u32,
     pub recording_immediate: bool,
+    /// Transform feedback is active: draws run once (each replay would be captured).
+    pub transform_feedback: bool,
     /// Our full-screen passes and the native-resolution weave target.
     pub passes: crate::output::pass::Passes,
     pub native: Option<crate::output::native::NativeTarget>,
@@ -96,6 +98,7 @@ impl Multiview {
             compiling_list: false,
             immediate_list: 0,
             recording_immediate: false,
+            transform_feedback: false,
             passes: Default::default(),
             native: None,
         };
@@ -196,4 +199,30 @@ pub fn update_convergence(gl: &crate::gl::Gl, mv: &mut Multiview) {
         let layout = target.layout;
         mv.update_rig(layout);
     }
+}
+
+/// After an internal failure the layer turns into pass-through: give the app back the real
+/// framebuffer 0 and unshifted programs, so what it draws from now on reaches the window.
+pub fn abandon() {
+    with_active(|cur, mv, gl| {
+        mv.failed = true;
+        framebuffer::rebind(gl, mv);
+        let views: Vec<(u32, i32)> = cur
+            .ctx
+            .group
+            .lock()
+            .programs
+            .iter()
+            .filter(|(_, p)| p.view_loc >= 0)
+            .map(|(&id, p)| (id, p.view_loc))
+            .collect();
+        for (program, loc) in views {
+            // SAFETY: our own uniform in programs of this share group; zero shift.
+            unsafe {
+                if gl.ProgramUniform4f.is_loaded() {
+                    gl.ProgramUniform4f(program, loc, 0.0, 1.0, 0.0, 2.0);
+                }
+            }
+        }
+    });
 }

@@ -109,9 +109,16 @@ fn draw_single(gl: &Gl, mv: &Multiview, group: &ShareGroup, f: impl Fn()) {
     f()
 }
 
+/// Draws whose side effects must happen once: transform feedback captures every replay, and
+/// with rasterisation discarded there is nothing per view to draw.
+fn captures_once(gl: &Gl, mv: &Multiview) -> bool {
+    // SAFETY: an enable query valid in GL 3.0+ / ES 3.0+, the only contexts with a quilt.
+    mv.transform_feedback || unsafe { gl.IsEnabled(RASTERIZER_DISCARD) } != 0
+}
+
 /// Replays `f` (the real draw) once per view when framebuffer 0 is the target.
 pub fn draw(gl: &Gl, mv: &mut Multiview, group: &ShareGroup, f: impl Fn()) {
-    let Some(layout) = mv.layout().filter(|_| mv.on_default_draw()) else {
+    let Some(layout) = mv.layout().filter(|_| mv.on_default_draw() && !captures_once(gl, mv)) else {
         return draw_single(gl, mv, group, f);
     };
     let shift = shift_for(gl, mv, group);

@@ -29,3 +29,13 @@ pub fn glEndList(real: impl Fn()) {
     real();
     with_active(|_, mv, _| mv.compiling_list = false);
 }
+
+pub fn glBeginTransformFeedback(real: impl Fn(GLenum), mode: GLenum) {
+    with_active(|_, mv, _| mv.transform_feedback = true);
+    real(mode)
+}
+
+pub fn glEndTransformFeedback(real: impl Fn()) {
+    real();
+    with_active(|_, mv, _| mv.transform_feedback = false);
+}

@@ -1,0 +1,103 @@
+//! The shared object itself: what it exports, that it stays silent on stdout, and that an
+//! internal failure degrades to pass-through instead of taking the program down.
+
+mod util;
+use util::*;
+
+#[test]
+fn exports_exactly_the_policy_table() {
+    let out = std::process::Command::new("nm")
+        .args(["-D", "--defined-only"])
+        .arg(layer_lib())
+        .output()
+        .expect("nm (binutils)");
+    let text = String::from_utf8_lossy(&out.stdout);
+    let mut exported: Vec<&str> = text
+        .lines()
+        .filter_map(|l| l.split_whitespace().nth(2))
+        .filter(|s| !s.starts_with('_'))
+        .collect();
+    exported.sort();
+    let mut expected: Vec<String> = holoinject::hook::HOOKS
+        .iter()
+        .map(|h| h.name.to_string_lossy().into_owned())
+        .collect();
+    expected.extend(["dlopen".to_string(), "dlsym".to_string()]);
+    expected.sort();
+    assert_eq!(exported, expected);
+}
+
+#[test]
+fn nothing_on_stdout_from_a_gl_program() {
+    let dir = temp_dir("silent_stdout");
+    let shot = dir.join("s.png");
+    let cubes = app("cubes");
+    let args = [
+        "run",
+        "--quilt",
+        "3x3",
+        "--log",
+        "debug",
+        "--",
+        cubes.to_str().unwrap(),
+        "--backend",
+        "egl",
+        "--size",
+        "160x120",
+        "--frames",
+        "3",
+        "--screenshot",
+        shot.to_str().unwrap(),
+    ];
+    let out = run(&launcher(), &args, &[]);
+    assert_success(&out, "cubes");
+    assert!(
+        out.stdout.is_empty(),
+        "stdout: {}",
+        String::from_utf8_lossy(&out.stdout)
+    );
+    assert!(stderr(&out).contains("holoinject: debug:"), "debug log missing");
+}
+
+#[test]
+fn forced_internal_error_falls_back_to_pass_through() {
+    let dir = temp_dir("forced_error");
+    let dump = dir.join("d");
+    let cubes = app("cubes");
+    let (plain, injected) = (dir.join("plain.png"), dir.join("injected.png"));
+    let app_args = ["--backend", "egl", "--size", "160x120", "--frames", "4", "--screenshot"];
+    let mut plain_args = app_args.to_vec();
+    plain_args.push(plain.to_str().unwrap());
+    assert_success(&run(&cubes, &plain_args, &[]), "plain cubes");
+    let mut args = vec![
+        "run",
+        "--quilt",
+        "3x3",
+        "--dump",
+        dump.to_str().unwrap(),
+        "--dump-frames",
+        "4",
+        "--exit-after",
+        "4",
+        "--",
+        cubes.to_str().unwrap(),
+    ];
+    args.extend(app_args);
+    args.push(injected.to_str().unwrap());
+    let out = run(&launcher(), &args, &[("HOLOINJECT_TEST_FAIL", "eglSwapBuffers")]);
+    assert_success(&out, "cubes with a failing swap hook");
+    let err = stderr(&out);
+    assert_eq!(
+        err.matches("internal error in the eglSwapBuffers hook").count(),
+        1,
+        "{err}"
+    );
+    // From the failure on the layer is pass-through: frames still end, so --exit-after is
+    // not honoured by the layer any more; the app ends on its own after 4 frames.
+    assert!(
+        !dump.join("f000004_out.png").exists(),
+        "the layer kept running after failing"
+    );
+    // Frames after the failure are the app's own again: framebuffer 0 and unshifted shaders.
+    assert_identical(&plain, &injected);
+}
