@@ -66,18 +66,32 @@ pub fn classify(m: &[f32; 16]) -> Option<Projection> {
             depth: None,
         });
     }
-    let bare = row3[0].abs() < EPS && row3[1].abs() < EPS && row3[3].abs() < EPS && row3[2] < 0.0;
-    let depth = bare.then(|| {
-        let s = -row3[2];
-        DepthRange {
-            a: m[10] / s,
-            b: m[14] / s,
-        }
-    });
+    let depth = depth_model(&m);
     Some(Projection {
         kind: ProjectionKind::Perspective,
         depth,
     })
+}
+
+/// The depth model of a perspective matrix P·A for any rigid (or uniformly scaled) model-view
+/// A: then `row2 = -a·row3 + (0,0,0,b)`, so `z_ndc = -a + b/w` with the clip w the shader
+/// sees. The xyz part of row2 must be parallel to row3's; otherwise (shear, non-uniform
+/// scale) the depth cannot be linearised and `None` is returned.
+fn depth_model(m: &[f64; 16]) -> Option<DepthRange> {
+    let q = [m[3], m[7], m[11]];
+    let r = [m[2], m[6], m[10]];
+    let qq: f64 = q.iter().map(|v| v * v).sum();
+    let rr: f64 = r.iter().map(|v| v * v).sum();
+    if qq < EPS * EPS || rr == 0.0 {
+        return None;
+    }
+    let a = -(r[0] * q[0] + r[1] * q[1] + r[2] * q[2]) / qq;
+    let residual: f64 = (0..3).map(|i| (r[i] + a * q[i]).powi(2)).sum();
+    if residual > 1e-8 * rr {
+        return None;
+    }
+    let b = m[14] + a * m[15];
+    (a.is_finite() && b.is_finite() && b != 0.0).then_some(DepthRange { a, b })
 }
 
 #[cfg(test)]
@@ -139,6 +153,51 @@ mod tests {
             1.,
         ];
         assert_eq!(classify(&ortho).unwrap().kind, ProjectionKind::Orthographic);
+    }
+
+    #[test]
+    fn depth_model_survives_a_rigid_view_and_uniform_scale() {
+        let p = perspective(50.0, 1.0, 0.5, 200.0);
+        // View: rotate 30° about y, translate, scale 2 (column-major).
+        let (c, s) = (30f32.to_radians().cos(), 30f32.to_radians().sin());
+        let v = [
+            2.0 * c,
+            0.,
+            -2.0 * s,
+            0.,
+            0.,
+            2.0,
+            0.,
+            0.,
+            2.0 * s,
+            0.,
+            2.0 * c,
+            0.,
+            1.0,
+            -2.0,
+            -9.0,
+            1.0,
+        ];
+        let mut mvp = [0f32; 16];
+        for col in 0..4 {
+            for row in 0..4 {
+                mvp[col * 4 + row] = (0..4).map(|k| p[k * 4 + row] * v[col * 4 + k]).sum();
+            }
+        }
+        let d = classify(&mvp).unwrap().depth.unwrap();
+        // A point: clip w and z from the matrix, then linearise z back to w.
+        let x = [0.3f64, -0.2, 0.7, 1.0];
+        let clip = |row: usize| (0..4).map(|k| mvp[k * 4 + row] as f64 * x[k]).sum::<f64>();
+        let (z, w) = (clip(2), clip(3));
+        assert!((d.w_of_ndc(z / w) - w).abs() < 1e-3 * w, "{} vs {w}", d.w_of_ndc(z / w));
+    }
+
+    #[test]
+    fn sheared_model_view_is_not_linearised() {
+        let mut m = perspective(50.0, 1.0, 0.5, 200.0);
+        m[2] += 0.3; // row 2 no longer parallel to row 3
+        m[3] = 0.2;
+        assert!(classify(&m).unwrap().depth.is_none());
     }
 
     #[test]

@@ -141,12 +141,15 @@ fn record(gl: &Gl, group: &ShareGroup, program: u32, analysis: &shader::Analysis
         .filter(|n| !n.starts_with("gl_"))
         .map(|n| uniform_location(gl, program, n))
         .filter(|&l| l >= 0);
+    let projection_ubo = leftmost
+        .filter(|n| projection_loc.is_none() && !n.starts_with("gl_"))
+        .and_then(|n| super::ubo::find(gl, program, n));
     crate::log::debug(format_args!(
         "program {program}: {:?}, view uniform at {view_loc}, matrices {:?}",
         analysis.position_kind, analysis.matrix_uniforms
     ));
-    group
-        .lock()
-        .programs
-        .insert(program, super::replay::program_info(view_loc, projection_loc, builtin));
+    group.lock().programs.insert(
+        program,
+        super::replay::program_info(view_loc, projection_loc, builtin, projection_ubo),
+    );
 }

@@ -17,6 +17,7 @@ pub mod layout;
 pub mod link;
 pub mod replay;
 pub mod target;
+pub mod ubo;
 
 use crate::camera::ViewRig;
 use crate::config::{Convergence, ViewSettings};
@@ -195,6 +196,13 @@ pub fn update_convergence(gl: &crate::gl::Gl, mv: &mut Multiview) {
     let tile = target.layout.tile_rect(mv.rig.centre());
     let depths = crate::gl::readback::read_depth(gl, mv.info, target.fbo, tile);
     if let Some(c) = crate::camera::convergence::estimate(&depths, range) {
+        if mv.auto_convergence.is_none() {
+            crate::log::info(format_args!(
+                "auto-convergence: scene at {c:.4} (near {:.4}, far {:.4})",
+                range.near(),
+                range.far()
+            ));
+        }
         mv.auto_convergence = Some(crate::camera::convergence::smooth(mv.auto_convergence, c));
         let layout = target.layout;
         mv.update_rig(layout);

@@ -60,22 +60,41 @@ fn shift_for(gl: &Gl, mv: &mut Multiview, group: &ShareGroup) -> Shift {
             _ => Shift::None,
         };
     }
-    let state = group.lock();
-    let Some(info) = state.programs.get(&mv.program).filter(|p| p.view_loc >= 0) else {
+    let mut state = group.lock();
+    let program = mv.program;
+    let tracked = |state: &crate::state::share::GroupState, loc: i32| state.matrices.get(&(program, loc)).copied();
+    let Some(info) = state.programs.get(&program).filter(|p| p.view_loc >= 0) else {
         return Shift::None;
     };
-    let matrix = if info.builtin_projection {
+    let (loc, builtin, plain, ubo) = (
+        info.view_loc,
+        info.builtin_projection,
+        info.projection_loc,
+        info.projection_ubo,
+    );
+    let matrix = if builtin {
         fixed_function_projection(gl)
+    } else if let Some(l) = plain {
+        tracked(&state, l)
     } else {
-        info.projection_loc
-            .and_then(|loc| state.matrices.get(&(mv.program, loc)).copied())
+        ubo.and_then(|m| ubo_projection(gl, state.programs.get_mut(&program)?, program, m))
     };
-    let loc = info.view_loc;
     drop(state);
     Shift::Uniform {
         loc,
         mode: mode_of(matrix, mv),
     }
+}
+
+/// A block-held projection, read again only when buffers may have changed.
+fn ubo_projection(gl: &Gl, info: &mut ProgramInfo, program: u32, m: super::ubo::UboMember) -> Option<[f32; 16]> {
+    let generation = super::ubo::generation();
+    if let Some((_, value)) = info.ubo_cache.filter(|(g, _)| *g == generation) {
+        return Some(value);
+    }
+    let value = super::ubo::read(gl, program, m)?;
+    info.ubo_cache = Some((generation, value));
+    Some(value)
 }
 
 fn set_view_uniform(gl: &Gl, mv: &Multiview, loc: i32, i: u32, mode: Mode) {
@@ -185,10 +204,17 @@ fn restore(gl: &Gl, mv: &Multiview, scissored: bool, shift: &Shift, group: &Shar
 }
 
 /// Link-time facts about a program, as the replay needs them.
-pub fn program_info(view_loc: i32, projection_loc: Option<i32>, builtin_projection: bool) -> ProgramInfo {
+pub fn program_info(
+    view_loc: i32,
+    projection_loc: Option<i32>,
+    builtin_projection: bool,
+    projection_ubo: Option<super::ubo::UboMember>,
+) -> ProgramInfo {
     ProgramInfo {
         view_loc,
         projection_loc,
+        projection_ubo,
+        ubo_cache: None,
         builtin_projection,
         centre_set: false,
     }

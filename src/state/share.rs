@@ -13,6 +13,10 @@ pub struct ProgramInfo {
     /// Location of the leftmost matrix uniform of the gl_Position expression (P, VP or MVP),
     /// when it is a plain uniform whose uploads we see.
     pub projection_loc: Option<i32>,
+    /// Otherwise, the uniform-block member holding it, and its value as last read (with the
+    /// buffer generation it was read at).
+    pub projection_ubo: Option<crate::multiview::ubo::UboMember>,
+    pub ubo_cache: Option<(u64, [f32; 16])>,
     /// gl_Position comes from the compatibility built-ins (`ftransform`, `gl_ModelView…`).
     pub builtin_projection: bool,
     /// The view uniform holds the centre view's values (so single draws need no update).

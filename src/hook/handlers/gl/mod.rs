@@ -1,5 +1,6 @@
 //! GL entry points, grouped by what the layer does with them.
 
+mod buffer;
 mod draw;
 mod frame;
 mod framebuffer;
@@ -7,6 +8,7 @@ mod immediate;
 mod program;
 mod query;
 
+pub use buffer::*;
 pub use draw::*;
 pub use frame::*;
 pub use framebuffer::*;
