@@ -193,6 +193,12 @@ pub fn update_convergence(gl: &crate::gl::Gl, mv: &mut Multiview) {
     let (Some(target), Some(range)) = (mv.target.as_ref(), mv.last_depth) else {
         return;
     };
+    if mv.info.es {
+        // ES cannot read depth back: the projection's near/far give the estimate instead.
+        let layout = target.layout;
+        mv.update_rig(layout);
+        return;
+    }
     let tile = target.layout.tile_rect(mv.rig.centre());
     let depths = crate::gl::readback::read_depth(gl, mv.info, target.fbo, tile);
     if let Some(c) = crate::camera::convergence::estimate(&depths, range) {
