@@ -15,8 +15,11 @@ pub enum ProjectionKind {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Projection {
     pub kind: ProjectionKind,
-    /// Present when the matrix is a bare perspective projection (row3 = (0,0,-s,0)).
+    /// Present when depth can be linearised (a perspective P·A with A rigid or uniformly
+    /// scaled).
     pub depth: Option<DepthRange>,
+    /// Horizontal focal scale `Fx` (P[0][0] of the bare projection), when recoverable.
+    pub fx: Option<f64>,
 }
 
 /// Eye-space depth model of a bare perspective projection: `z_ndc = a + b / (-z_eye)` after
@@ -64,13 +67,28 @@ pub fn classify(m: &[f32; 16]) -> Option<Projection> {
         return Some(Projection {
             kind: ProjectionKind::Orthographic,
             depth: None,
+            fx: None,
         });
     }
     let depth = depth_model(&m);
+    let fx = depth.and_then(|_| focal_x(&m));
     Some(Projection {
         kind: ProjectionKind::Perspective,
         depth,
+        fx,
     })
+}
+
+/// `Fx` of P in P·A (A rigid, scale s): row0 = Fx·s·r0 + cx·s·r2 and row3 = -s·r2, so the
+/// part of row0 orthogonal to row3, divided by |row3|, is Fx — exact for off-centre frusta.
+fn focal_x(m: &[f64; 16]) -> Option<f64> {
+    let q = [m[3], m[7], m[11]];
+    let r = [m[0], m[4], m[8]];
+    let qq: f64 = q.iter().map(|v| v * v).sum();
+    let along = (r[0] * q[0] + r[1] * q[1] + r[2] * q[2]) / qq;
+    let ortho: f64 = (0..3).map(|i| (r[i] - along * q[i]).powi(2)).sum::<f64>().sqrt();
+    let fx = ortho / qq.sqrt();
+    (fx.is_finite() && fx > 0.0).then_some(fx)
 }
 
 /// The depth model of a perspective matrix P·A for any rigid (or uniformly scaled) model-view
@@ -184,7 +202,14 @@ mod tests {
                 mvp[col * 4 + row] = (0..4).map(|k| p[k * 4 + row] * v[col * 4 + k]).sum();
             }
         }
-        let d = classify(&mvp).unwrap().depth.unwrap();
+        let proj = classify(&mvp).unwrap();
+        let d = proj.depth.unwrap();
+        assert!(
+            (proj.fx.unwrap() - p[0] as f64).abs() < 1e-4,
+            "fx {:?} vs {}",
+            proj.fx,
+            p[0]
+        );
         // A point: clip w and z from the matrix, then linearise z back to w.
         let x = [0.3f64, -0.2, 0.7, 1.0];
         let clip = |row: usize| (0..4).map(|k| mvp[k * 4 + row] as f64 * x[k]).sum::<f64>();

@@ -51,6 +51,8 @@ pub struct ViewSettings {
     pub device: Option<device::Device>,
     pub weave_filter: crate::output::weave::Filter,
     pub depthiness: Option<f64>,
+    /// Angle (degrees) between the outermost cameras as seen from the convergence plane.
+    pub view_cone: Option<f64>,
     pub convergence: Convergence,
     pub focus: f64,
 }
@@ -79,6 +81,7 @@ impl Default for ViewSettings {
             device: None,
             weave_filter: crate::output::weave::Filter::BlendNext,
             depthiness: None,
+            view_cone: None,
             convergence: Convergence::Auto,
             focus: 0.0,
         }
@@ -136,6 +139,7 @@ impl Settings {
                 "device" => s.view.device = device::load(&value).ok(),
                 "weave-filter" => s.view.weave_filter = parse::weave_filter(&value).unwrap_or(s.view.weave_filter),
                 "depthiness" => s.view.depthiness = parse::finite(&value).ok(),
+                "view-cone" => s.view.view_cone = parse::view_cone(&value).ok(),
                 "convergence" => s.view.convergence = parse::convergence(&value).unwrap_or(Convergence::Auto),
                 "focus" => s.view.focus = parse::finite(&value).unwrap_or(0.0),
                 _ => {}

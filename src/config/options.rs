@@ -51,6 +51,8 @@ pub static OPTIONS: &[OptDef] = &[
         |v| super::parse::output(v).map(|_| ())),
     opt("depthiness", "S", "disparity at infinity (NDC) between centre and outermost view; default 4 px between neighbours",
         |v| super::parse::finite(v).map(|_| ())),
+    opt("view-cone", "DEG", "depthiness in physical terms: angle between the outermost cameras seen from the convergence plane",
+        |v| super::parse::view_cone(v).map(|_| ())),
     opt("convergence", "auto|C", "eye-space distance (w units) of the zero-parallax plane; auto follows the scene (default)",
         |v| super::parse::convergence(v).map(|_| ())),
     opt("focus", "F", "post-hoc zero-parallax shift (NDC) between centre and outermost view", |v| super::parse::finite(v).map(|_| ())),

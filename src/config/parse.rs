@@ -54,6 +54,16 @@ pub fn weave_filter(v: &str) -> Result<crate::output::weave::Filter, String> {
     }
 }
 
+pub fn view_cone(v: &str) -> Result<f64, String> {
+    finite(v).and_then(|d| {
+        if d > 0.0 && d < 180.0 {
+            Ok(d)
+        } else {
+            Err(format!("`{v}`: degrees in (0, 180)"))
+        }
+    })
+}
+
 pub fn convergence(v: &str) -> Result<Convergence, String> {
     if v.trim() == "auto" {
         Ok(Convergence::Auto)

@@ -50,6 +50,8 @@ pub struct Multiview {
     pub auto_convergence: Option<f64>,
     /// Depth model of the last perspective projection seen (for auto-convergence).
     pub last_depth: Option<crate::camera::projection::DepthRange>,
+    /// Horizontal focal scale of that projection (for `--view-cone`).
+    pub last_fx: Option<f64>,
     pub failed: bool,
     /// The app is compiling a display list: its calls must not be replayed.
     pub compiling_list: bool,
@@ -95,6 +97,7 @@ impl Multiview {
             program: crate::gl::guard::get_i(gl, crate::gl::CURRENT_PROGRAM) as u32,
             auto_convergence: None,
             last_depth: None,
+            last_fx: None,
             failed: false,
             compiling_list: false,
             immediate_list: 0,
@@ -111,14 +114,17 @@ impl Multiview {
     pub fn update_rig(&mut self, layout: QuiltLayout) {
         let views = layout.views();
         self.rig.views = views;
-        self.rig.depthiness = self
-            .settings
-            .depthiness
-            .unwrap_or_else(|| ViewRig::depthiness_for_disparity(4.0, views, layout.tile_w));
+        self.rig.depthiness = self.depthiness(layout);
         self.rig.convergence = match self.settings.convergence {
             Convergence::Fixed(c) => c,
             Convergence::Auto => self.auto_convergence.unwrap_or_else(|| self.fallback_convergence()),
         };
+    }
+
+    /// `--depthiness` as given; else from `--view-cone` (s = Fx·tan(cone/2), DESIGN §3) once
+    /// the projection is known; else 4 px between neighbouring views at infinity.
+    fn depthiness(&self, layout: QuiltLayout) -> f64 {
+        depthiness(self.settings.depthiness, self.settings.view_cone, self.last_fx, layout)
     }
 
     /// Before the scene's depth has been seen: the geometric mean of near and far when the
@@ -145,6 +151,16 @@ impl Multiview {
     /// The quilt's framebuffer name while it stands in for framebuffer 0.
     pub fn quilt_fbo(&self) -> Option<u32> {
         self.target.as_ref().filter(|_| !self.failed).map(|t| t.fbo)
+    }
+}
+
+/// `--depthiness` as given; else from `--view-cone` (s = Fx·tan(cone/2), DESIGN §3) once
+/// the projection's `Fx` is known; else 4 px between neighbouring views at infinity.
+pub fn depthiness(given: Option<f64>, cone_deg: Option<f64>, fx: Option<f64>, layout: QuiltLayout) -> f64 {
+    match (given, cone_deg, fx) {
+        (Some(s), _, _) => s,
+        (None, Some(cone), Some(fx)) => fx * (cone.to_radians() / 2.0).tan(),
+        _ => ViewRig::depthiness_for_disparity(4.0, layout.views(), layout.tile_w),
     }
 }
 
@@ -187,32 +203,25 @@ pub fn on_make_current(cur: &Current) {
 
 /// Auto-convergence from the centre view's depth of the frame just finished.
 pub fn update_convergence(gl: &crate::gl::Gl, mv: &mut Multiview) {
-    if mv.settings.convergence != Convergence::Auto {
-        return;
-    }
-    let (Some(target), Some(range)) = (mv.target.as_ref(), mv.last_depth) else {
-        return;
-    };
-    if mv.info.es {
-        // ES cannot read depth back: the projection's near/far give the estimate instead.
-        let layout = target.layout;
-        mv.update_rig(layout);
-        return;
-    }
-    let tile = target.layout.tile_rect(mv.rig.centre());
-    let depths = crate::gl::readback::read_depth(gl, mv.info, target.fbo, tile);
-    if let Some(c) = crate::camera::convergence::estimate(&depths, range) {
-        if mv.auto_convergence.is_none() {
-            crate::log::info(format_args!(
-                "auto-convergence: scene at {c:.4} (near {:.4}, far {:.4})",
-                range.near(),
-                range.far()
-            ));
+    let Some(layout) = mv.layout() else { return };
+    // ES cannot read depth back: there the projection's near/far give the estimate.
+    if mv.settings.convergence == Convergence::Auto && !mv.info.es {
+        if let (Some(target), Some(range)) = (mv.target.as_ref(), mv.last_depth) {
+            let tile = target.layout.tile_rect(mv.rig.centre());
+            let depths = crate::gl::readback::read_depth(gl, mv.info, target.fbo, tile);
+            if let Some(c) = crate::camera::convergence::estimate(&depths, range) {
+                if mv.auto_convergence.is_none() {
+                    crate::log::info(format_args!(
+                        "auto-convergence: scene at {c:.4} (near {:.4}, far {:.4})",
+                        range.near(),
+                        range.far()
+                    ));
+                }
+                mv.auto_convergence = Some(crate::camera::convergence::smooth(mv.auto_convergence, c));
+            }
         }
-        mv.auto_convergence = Some(crate::camera::convergence::smooth(mv.auto_convergence, c));
-        let layout = target.layout;
-        mv.update_rig(layout);
     }
+    mv.update_rig(layout);
 }
 
 /// After an internal failure the layer turns into pass-through: give the app back the real
@@ -239,4 +248,19 @@ pub fn abandon() {
             }
         }
     });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn depthiness_from_option_cone_or_default() {
+        let l = QuiltLayout::new((8, 6), Some((420, 560)), (420, 560));
+        assert_eq!(depthiness(Some(0.3), Some(40.0), Some(2.0), l), 0.3);
+        let s = depthiness(None, Some(40.0), Some(2.0), l);
+        assert!((s - 2.0 * 20f64.to_radians().tan()).abs() < 1e-12);
+        // Cone without a known projection: the pixel default, not garbage.
+        assert!((depthiness(None, Some(40.0), None, l) - 4.0 * 47.0 / 420.0).abs() < 1e-12);
+    }
 }

@@ -43,6 +43,7 @@ fn mode_of(matrix: Option<[f32; 16]>, mv: &mut Multiview) -> Mode {
         Some(p) => {
             if p.depth.is_some() {
                 mv.last_depth = p.depth;
+                mv.last_fx = p.fx.or(mv.last_fx);
             }
             Mode::Perspective
         }
