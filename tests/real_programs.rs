@@ -91,7 +91,9 @@ fn assert_replay_identical(test: &str, api: &str, retrace: &str, program: &[&str
 
 /// Frame `frame` of a replay under the layer as a 5x1 quilt: its centre tile must be the
 /// plain frame (up to llvmpipe's viewport-offset rounding, ≤ 0.05% of pixels) and the views
-/// right of centre must move further the further they are.
+/// right of centre must move further the further they are. The convergence plane is put
+/// just in front of the camera so the whole scene is behind it and moves one way (with the
+/// default auto-convergence a single-object scene sits on the plane and barely moves).
 fn assert_replay_quilt(test: &str, api: &str, retrace: &str, program: &[&str], seconds: &str, frame: u32) {
     let dir = temp_dir(test);
     let trace = record(&dir, test, api, program, seconds);
@@ -104,6 +106,8 @@ fn assert_replay_quilt(test: &str, api: &str, retrace: &str, program: &[&str], s
         "5x1",
         "--depthiness",
         "0.1",
+        "--convergence",
+        "0.01",
         "--log",
         "info",
         "--dump",
