@@ -166,6 +166,10 @@ pub fn depthiness(given: Option<f64>, cone_deg: Option<f64>, fx: Option<f64>, la
 
 /// Runs `f` with the current context's multiview state and GL table, when multiview is on.
 pub fn with_active<R>(f: impl FnOnce(&Current, &mut Multiview, &crate::gl::Gl) -> R) -> Option<R> {
+    // Pass-through (`--output mono`) pays one load per hooked call, nothing more.
+    if !crate::config::settings().multiview() {
+        return None;
+    }
     crate::state::with_current(|cur| {
         let cur = cur?;
         let (gl, _) = cur.ctx.gl()?;
