@@ -244,3 +244,58 @@ fn side_tiles_show_parallax_growing_with_view_distance() {
         "parallax does not grow: {shifts:?}"
     );
 }
+
+/// Picking (`glRenderMode(GL_SELECT)`) must see each draw once: `legacy` prints its hit count
+/// and picked name with `glBitmap` text, so a replayed selection pass changes the frame.
+/// Frame 60 has a hit (`HITS 1 1`).
+#[test]
+fn legacy_picking_and_bitmap_text_survive_the_quilt() {
+    let dir = temp_dir("legacy_picking");
+    let (plain, injected) = (dir.join("plain.png"), dir.join("injected.png"));
+    let legacy = app("legacy");
+    let app_args = ["--backend", "egl", "--size", SIZE, "--frames", "60", "--screenshot"];
+    let mut args = app_args.to_vec();
+    args.push(plain.to_str().unwrap());
+    assert_success(&run(&legacy, &args, &[]), "plain legacy");
+    let dump = dir.join("dump");
+    let mut args = vec![
+        "run",
+        "--quilt",
+        "5x3",
+        "--depthiness",
+        "0.1",
+        "--dump",
+        dump.to_str().unwrap(),
+        "--dump-frames",
+        "60",
+        "--",
+    ];
+    args.push(legacy.to_str().unwrap());
+    args.extend(app_args);
+    args.push(injected.to_str().unwrap());
+    assert_success(&run(&launcher(), &args, &[]), "legacy under the layer");
+    // The app's glReadPixels of framebuffer 0 is the centre view: HUD text included.
+    assert_nearly_identical(&plain, &injected);
+    // The HUD (orthographic) is the same in every view: the three bars' first 64 px (rows
+    // 10-52 top-down) and the white square bottom-right (x 280-310, rows 200-230). The space
+    // between them shows the scene, which does move.
+    let quilt = read_png(&dump.join("f000060_qs5x3a1.3333.png"));
+    let hud = |img: &Image| -> Vec<u8> {
+        let px = |x: u32, y: u32| {
+            img.rgb[((y * img.width + x) * 3) as usize..((y * img.width + x) * 3 + 3) as usize].to_vec()
+        };
+        let bars = [10..20u32, 26..36, 42..52]
+            .into_iter()
+            .flatten()
+            .flat_map(|y| (10..74).map(move |x| (x, y)));
+        let square = (200..230u32).flat_map(|y| (280..310).map(move |x| (x, y)));
+        bars.chain(square).flat_map(|(x, y)| px(x, y)).collect()
+    };
+    let centre = hud(&tile(&quilt, 5, 3, 7));
+    for i in 0..15 {
+        assert!(
+            hud(&tile(&quilt, 5, 3, i)) == centre,
+            "HUD of view {i} differs from the centre view's"
+        );
+    }
+}

@@ -15,6 +15,7 @@ pub mod framebuffer;
 pub mod immediate;
 pub mod layout;
 pub mod link;
+pub mod raster;
 pub mod replay;
 pub mod target;
 pub mod ubo;
@@ -59,6 +60,8 @@ pub struct Multiview {
     pub recording_immediate: bool,
     /// Transform feedback is active: draws run once (each replay would be captured).
     pub transform_feedback: bool,
+    /// `glRenderMode` is GL_SELECT or GL_FEEDBACK: picking must see each draw once.
+    pub selecting: bool,
     /// Our full-screen passes and the native-resolution weave target.
     pub passes: crate::output::pass::Passes,
     pub native: Option<crate::output::native::NativeTarget>,
@@ -103,6 +106,7 @@ impl Multiview {
             immediate_list: 0,
             recording_immediate: false,
             transform_feedback: false,
+            selecting: false,
             passes: Default::default(),
             native: None,
         };

@@ -129,17 +129,27 @@ fn draw_single(gl: &Gl, mv: &Multiview, group: &ShareGroup, f: impl Fn()) {
     f()
 }
 
-/// Draws whose side effects must happen once: transform feedback captures every replay, and
-/// with rasterisation discarded there is nothing per view to draw.
+/// Draws whose side effects must happen once: transform feedback captures every replay,
+/// selection/feedback modes (picking) count every replay, and with rasterisation discarded
+/// there is nothing per view to draw.
 fn captures_once(gl: &Gl, mv: &Multiview) -> bool {
     // SAFETY: an enable query valid in GL 3.0+ / ES 3.0+, the only contexts with a quilt.
-    mv.transform_feedback || unsafe { gl.IsEnabled(RASTERIZER_DISCARD) } != 0
+    mv.transform_feedback || mv.selecting || unsafe { gl.IsEnabled(RASTERIZER_DISCARD) } != 0
 }
 
 /// Replays `f` (the real draw) once per view when framebuffer 0 is the target.
 pub fn draw(gl: &Gl, mv: &mut Multiview, group: &ShareGroup, f: impl Fn()) {
+    draw_views(gl, mv, group, |_| f())
+}
+
+/// View index passed to `draw_views`' callback when the draw is not replayed.
+pub const SINGLE: u32 = u32::MAX;
+
+/// `draw`, with the view index (or `SINGLE`) given to the callback, for draws that need
+/// per-view work of their own (raster positions).
+pub fn draw_views(gl: &Gl, mv: &mut Multiview, group: &ShareGroup, f: impl Fn(u32)) {
     let Some(layout) = mv.layout().filter(|_| mv.on_default_draw() && !captures_once(gl, mv)) else {
-        return draw_single(gl, mv, group, f);
+        return draw_single(gl, mv, group, || f(SINGLE));
     };
     let shift = shift_for(gl, mv, group);
     // SAFETY: viewport, scissor, uniform and projection changes below are all restored.
@@ -164,7 +174,7 @@ pub fn draw(gl: &Gl, mv: &mut Multiview, group: &ShareGroup, f: impl Fn()) {
             Shift::Projection(p) => load_projection(gl, &sheared(mv, i, &p), app_matrix_mode),
             Shift::None => {}
         }
-        f();
+        f(i);
     }
     if let Shift::Projection(p) = shift {
         load_projection(gl, &p, app_matrix_mode);

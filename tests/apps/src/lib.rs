@@ -1,5 +1,6 @@
 //! Shared code of the holoinject sample apps (cubes, legacy, asteroids, model,
-//! skybox, compat120, gles).
+//! skybox, compat120, gles, and the multi-pass framebuffers, shadowmap,
+//! deferred, ssao, bloom, msaa).
 
 #[allow(
     clippy::all,
@@ -16,7 +17,9 @@ pub mod gl {
 pub mod camera;
 pub mod cli;
 pub mod image;
+pub mod legacy_extras;
 pub mod math;
+pub mod multipass;
 pub mod platform;
 pub mod quilt;
 pub mod run;

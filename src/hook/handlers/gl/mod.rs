@@ -7,6 +7,7 @@ mod framebuffer;
 mod immediate;
 mod program;
 mod query;
+mod raster;
 
 pub use buffer::*;
 pub use draw::*;
@@ -15,6 +16,7 @@ pub use framebuffer::*;
 pub use immediate::*;
 pub use program::*;
 pub use query::*;
+pub use raster::*;
 
 /// Replays `f` once per view when multiview applies to the current draw, else calls it once.
 fn per_view(f: impl Fn()) {

@@ -1,7 +1,9 @@
 //! `legacy`: OpenGL 1.x fixed-function app (compat context): glFrustum,
-//! immediate mode, nested display lists, fog, lighting and a glOrtho HUD.
+//! immediate mode, nested display lists, client vertex arrays with texgen, fog, lighting,
+//! a `GL_SELECT` picking pass, and a glOrtho HUD with `glBitmap` text.
 use holoapps::cli::{AppInfo, Options};
 use holoapps::gl::{self, Gl};
+use holoapps::legacy_extras::{self, Extras};
 use holoapps::platform::Profile;
 use holoapps::scene::{Scene, View, seconds};
 use std::process::ExitCode;
@@ -14,6 +16,7 @@ const FOG: [f32; 4] = [0.55, 0.65, 0.75, 1.0];
 struct Legacy {
     /// Outer list; it calls the inner `pyramid` list several times.
     cluster: u32,
+    extras: Extras,
 }
 
 unsafe fn pyramid(gl: &Gl) {
@@ -57,17 +60,25 @@ impl Legacy {
                 gl.PopMatrix();
             }
             gl.EndList();
-            Ok(Legacy { cluster: base + 1 })
+            Ok(Legacy {
+                cluster: base + 1,
+                extras: Extras::new(gl),
+            })
         }
     }
 
-    unsafe fn projection(gl: &Gl, v: &View) {
+    /// Multiplies the app's frustum onto the current matrix.
+    unsafe fn frustum(gl: &Gl, aspect: f32) {
         let top = 0.1 * (22.5f32).to_radians().tan();
-        let right = top * v.aspect();
+        let right = top * aspect;
+        unsafe { gl.Frustum(-right as f64, right as f64, -top as f64, top as f64, 0.1, 100.0) };
+    }
+
+    unsafe fn projection(gl: &Gl, v: &View) {
         unsafe {
             gl.MatrixMode(gl::PROJECTION);
             gl.LoadIdentity();
-            gl.Frustum(-right as f64, right as f64, -top as f64, top as f64, 0.1, 100.0);
+            Self::frustum(gl, v.aspect());
             if v.shear.is_some() {
                 // Reference quilt: replace the frustum by its sheared version.
                 let mut p = [0f32; 16];
@@ -117,7 +128,7 @@ impl Legacy {
         }
     }
 
-    unsafe fn hud(gl: &Gl, v: &View, t: f32) {
+    unsafe fn hud(gl: &Gl, v: &View, t: f32, pick: (i32, Option<u32>)) {
         let (w, h) = v.size();
         unsafe {
             gl.Disable(gl::LIGHTING);
@@ -137,6 +148,9 @@ impl Legacy {
             }
             gl.Color3f(1.0, 1.0, 1.0);
             gl.Rectf(w - 40.0, 10.0, w - 10.0, 40.0);
+            // Raster position relative to the viewport origin (tiles in the reference quilt).
+            let picked = pick.1.map_or("-".to_string(), |n| n.to_string());
+            legacy_extras::text(gl, 10.0, 12.0, &format!("HITS {} {}", pick.0, picked));
         }
     }
 }
@@ -144,6 +158,15 @@ impl Legacy {
 impl Scene for Legacy {
     fn render(&mut self, gl: &Gl, frame: u64, v: &View) {
         let t = seconds(frame);
+        // Picking sees the app's own window and unsheared camera, in every view alike.
+        let (w, h) = v.size();
+        let pick = self.extras.pick(
+            gl,
+            (w, h),
+            t,
+            || unsafe { Self::setup_world(gl) },
+            || unsafe { Self::frustum(gl, w / h) },
+        );
         unsafe {
             gl.Viewport(v.viewport[0], v.viewport[1], v.viewport[2], v.viewport[3]);
             gl.ClearColor(FOG[0], FOG[1], FOG[2], FOG[3]);
@@ -162,7 +185,8 @@ impl Scene for Legacy {
             gl.Scalef(1.5, 2.0, 1.5);
             pyramid(gl);
             gl.PopMatrix();
-            Self::hud(gl, v, t);
+            self.extras.ring(gl, t, pick.1);
+            Self::hud(gl, v, t, pick);
         }
     }
 }

@@ -1,0 +1,153 @@
+//! `framebuffers`: GL 3.3 core, LearnOpenGL "Framebuffers". The lit scene is
+//! rendered into an FBO (RGBA8 colour texture + depth24 renderbuffer), then a
+//! full-screen quad draws that texture to the default framebuffer with a
+//! sharpen kernel (texel offsets) and a vignette. Only the scene pass uses the
+//! camera; the post pass is in NDC and view-independent.
+use holoapps::cli::{AppInfo, Options};
+use holoapps::gl::{self, Gl};
+use holoapps::math;
+use holoapps::multipass::{self as mp, Attachment, Output};
+use holoapps::platform::Profile;
+use holoapps::scene::{Scene, View, seconds};
+use holoapps::shader;
+use std::process::ExitCode;
+
+const SCENE_FS: &str = r#"#version 330 core
+in vec3 FragPos;
+in vec3 Normal;
+uniform vec3 objectColor;
+uniform vec3 lightDir;
+uniform vec3 viewPos;
+out vec4 FragColor;
+void main() {
+    vec3 n = normalize(Normal);
+    vec3 l = normalize(lightDir);
+    vec3 h = normalize(l + normalize(viewPos - FragPos));
+    float diff = max(dot(n, l), 0.0);
+    float spec = pow(max(dot(n, h), 0.0), 32.0);
+    FragColor = vec4(objectColor * (0.25 + 0.75 * diff) + vec3(0.3) * spec, 1.0);
+}
+"#;
+
+const POST_FS: &str = r#"#version 330 core
+in vec2 UV;
+uniform sampler2D screenTexture;
+out vec4 FragColor;
+void main() {
+    // Sharpen: 5*centre - 4 neighbours, one texel apart.
+    vec2 texel = 1.0 / vec2(textureSize(screenTexture, 0));
+    vec3 c = 5.0 * texture(screenTexture, UV).rgb;
+    c -= texture(screenTexture, UV + vec2(texel.x, 0.0)).rgb;
+    c -= texture(screenTexture, UV - vec2(texel.x, 0.0)).rgb;
+    c -= texture(screenTexture, UV + vec2(0.0, texel.y)).rgb;
+    c -= texture(screenTexture, UV - vec2(0.0, texel.y)).rgb;
+    vec2 d = UV - 0.5;
+    float vignette = 1.0 - 0.8 * dot(d, d);
+    FragColor = vec4(clamp(c, 0.0, 1.0) * vignette, 1.0);
+}
+"#;
+
+struct Framebuffers {
+    out: Output,
+    scene: u32,
+    post: u32,
+    cube: u32,
+    quad: u32,
+    fbo: u32,
+    colour: u32,
+    /// projection, view, model, objectColor, lightDir, viewPos, screenTexture
+    loc: [i32; 7],
+}
+
+impl Framebuffers {
+    fn new(gl: &Gl, o: &Options) -> Result<Self, String> {
+        let out = Output::new(o.size);
+        let scene = shader::program(gl, mp::SCENE_VS, SCENE_FS)?;
+        let post = shader::program(gl, mp::QUAD_VS, POST_FS)?;
+        let mut loc = [0; 7];
+        for (l, n) in loc
+            .iter_mut()
+            .zip(["projection", "view", "model", "objectColor", "lightDir", "viewPos"])
+        {
+            *l = shader::uniform(gl, scene, n);
+        }
+        loc[6] = shader::uniform(gl, post, "screenTexture");
+        // NEAREST: the sharpen kernel reads exact texels.
+        let colour = mp::texture(
+            gl,
+            gl::RGBA8,
+            out.size(),
+            gl::RGBA,
+            gl::UNSIGNED_BYTE,
+            gl::NEAREST,
+            std::ptr::null(),
+        );
+        let depth = mp::renderbuffer(gl, gl::DEPTH_COMPONENT24, 0, out.size());
+        let fbo = mp::framebuffer(
+            gl,
+            "scene",
+            &[Attachment::Texture(colour)],
+            Some(Attachment::Renderbuffer(depth)),
+        )?;
+        Ok(Framebuffers {
+            out,
+            scene,
+            post,
+            cube: shader::pos_normal_vao(gl, &shader::cube_vertices()),
+            quad: mp::quad_vao(gl),
+            fbo,
+            colour,
+            loc,
+        })
+    }
+}
+
+impl Scene for Framebuffers {
+    fn render(&mut self, gl: &Gl, frame: u64, v: &View) {
+        let target = self.out.begin(gl, v);
+        let (w, h) = self.out.size();
+        let (p, view) = mp::camera((w, h));
+        let l = self.loc;
+        unsafe {
+            // Pass 1: the scene into the FBO, with view i's projection.
+            gl.BindFramebuffer(gl::FRAMEBUFFER, self.fbo);
+            gl.Viewport(0, 0, w, h);
+            gl.ClearColor(0.1, 0.12, 0.18, 1.0);
+            gl.Enable(gl::DEPTH_TEST);
+            gl.Enable(gl::CULL_FACE);
+            gl.Clear(gl::COLOR_BUFFER_BIT | gl::DEPTH_BUFFER_BIT);
+            gl.UseProgram(self.scene);
+            mp::set_mat4(gl, l[0], &v.projection(p));
+            mp::set_mat4(gl, l[1], &view);
+            mp::set_vec3(gl, l[4], [0.4, 1.0, 0.6]);
+            mp::set_vec3(gl, l[5], mp::EYE);
+            gl.BindVertexArray(self.cube);
+            mp::draw_objects(gl, &mp::objects(seconds(frame)), l[2], l[3]);
+
+            // Pass 2: post effect to the default framebuffer.
+            gl.BindFramebuffer(gl::FRAMEBUFFER, target);
+            gl.Disable(gl::DEPTH_TEST);
+            gl.ClearColor(1.0, 1.0, 1.0, 1.0);
+            gl.Clear(gl::COLOR_BUFFER_BIT);
+            gl.UseProgram(self.post);
+            mp::bind_texture(gl, 0, self.colour, l[6]);
+            mp::draw_quad(gl, self.quad);
+        }
+        self.out.end(gl, v);
+    }
+}
+
+fn main() -> ExitCode {
+    let info = AppInfo {
+        name: "framebuffers",
+        about: "GL 3.3 core: lit scene into an FBO (RGBA8 texture + depth24 renderbuffer), then a sharpen + vignette full-screen pass",
+        default_convergence: math::distance(mp::EYE, mp::CENTRE),
+        extra: &[],
+        switches: &[],
+    };
+    holoapps::run::main(
+        &info,
+        Profile::Core33,
+        Box::new(|gl: &Gl, o: &Options| Ok(Box::new(Framebuffers::new(gl, o)?) as Box<dyn Scene>)),
+    )
+}
