@@ -8,7 +8,7 @@ packages=(
   xvfb xauth
   libgl1-mesa-dri libglx-mesa0 libegl-mesa0 libgl-dev libegl-dev libgles-dev libx11-dev libosmesa6-dev
   mesa-utils mesa-utils-bin glmark2-x11 glmark2-es2-x11
-  apitrace apitrace-tracers
+  apitrace apitrace-tracers chromium-bsu
   glslang-tools hyperfine python3-numpy python3-matplotlib python3-pil
 )
 

@@ -1,6 +1,7 @@
 #!/bin/bash
 # usage: tests/apps/verify.sh [BINDIR]  (default target/release)
 # Every app x its back-ends: screenshot + 3x3 quilt check, determinism.
+# ONLY="app1 app2" restricts the run to those apps.
 # TOL = allowed centre-tile edge pixels (see README).
 BIN=${1:-target/release}; HERE=$(dirname "$0"); TOL=${TOL:-16}; D=/tmp/v; mkdir -p $D; fail=0
 # app, LSB (centre-tile +-LSB differences not counted, see check_quilt.py),
@@ -12,9 +13,18 @@ model 1 glx,egl,osmesa
 skybox 1 glx,egl,osmesa
 compat120 0 glx,egl,osmesa
 gles 0 egl,egl-x11
-gles 0 egl,egl-x11 --es2"
+gles 0 egl,egl-x11 --es2
+framebuffers 1 glx,egl,osmesa
+shadowmap 1 glx,egl,osmesa
+deferred 1 glx,egl,osmesa
+ssao 1 glx,egl,osmesa
+bloom 1 glx,egl,osmesa
+msaa 1 glx,egl,osmesa
+msaa 1 glx,egl,osmesa --blit-to-default"
 # fd 3: xvfb-run would otherwise eat the case list from stdin.
-while read -r -u 3 app lsb bes extra; do for be in ${bes//,/ }; do
+while read -r -u 3 app lsb bes extra; do
+  [ -n "$ONLY" ] && [[ " $ONLY " != *" $app "* ]] && continue
+  for be in ${bes//,/ }; do
   tag=$app$(echo $extra | tr -d ' '); pre=""
   [ $be = glx ] || [ $be = egl-x11 ] && pre="xvfb-run -a -s '-screen 0 1280x1024x24'"
   run() { eval $pre $BIN/$app --backend $be $extra "$@" </dev/null; }

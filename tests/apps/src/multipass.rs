@@ -41,9 +41,9 @@ pub fn objects(t: f32) -> Vec<(Mat4, [f32; 3])> {
         );
         let hue = k as f32 / 7.0;
         let c = [
-            0.5 + 0.5 * (hue * 6.28).cos(),
-            0.5 + 0.5 * (hue * 6.28 + 2.1).cos(),
-            0.5 + 0.5 * (hue * 6.28 + 4.2).cos(),
+            0.5 + 0.5 * (hue * std::f32::consts::TAU).cos(),
+            0.5 + 0.5 * (hue * std::f32::consts::TAU + 2.1).cos(),
+            0.5 + 0.5 * (hue * std::f32::consts::TAU + 4.2).cos(),
         ];
         v.push((math::mul(&m, &math::scale(0.9, h, 0.9)), c));
     }
@@ -58,7 +58,8 @@ pub fn objects(t: f32) -> Vec<(Mat4, [f32; 3])> {
     v
 }
 
-/// Creates a 2D texture (left bound), clamped to edge with `filter` both ways.
+/// Creates a 2D texture (left bound), clamped to edge with `filter` both ways;
+/// `data` is float pixel data (only the SSAO noise has any), None leaves it undefined.
 pub fn texture(
     gl: &Gl,
     internal: u32,
@@ -66,13 +67,14 @@ pub fn texture(
     format: u32,
     ty: u32,
     filter: u32,
-    data: *const c_void,
+    data: Option<&[f32]>,
 ) -> u32 {
     let mut t = 0;
     unsafe {
         gl.GenTextures(1, &mut t);
         gl.BindTexture(gl::TEXTURE_2D, t);
-        gl.TexImage2D(gl::TEXTURE_2D, 0, internal as i32, size.0, size.1, 0, format, ty, data);
+        let ptr = data.map_or(std::ptr::null(), |d| d.as_ptr().cast());
+        gl.TexImage2D(gl::TEXTURE_2D, 0, internal as i32, size.0, size.1, 0, format, ty, ptr);
         gl.TexParameteri(gl::TEXTURE_2D, gl::TEXTURE_MIN_FILTER, filter as i32);
         gl.TexParameteri(gl::TEXTURE_2D, gl::TEXTURE_MAG_FILTER, filter as i32);
         gl.TexParameteri(gl::TEXTURE_2D, gl::TEXTURE_WRAP_S, gl::CLAMP_TO_EDGE as i32);

@@ -80,7 +80,7 @@ impl Framebuffers {
             gl::RGBA,
             gl::UNSIGNED_BYTE,
             gl::NEAREST,
-            std::ptr::null(),
+            None,
         );
         let depth = mp::renderbuffer(gl, gl::DEPTH_COMPONENT24, 0, out.size());
         let fbo = mp::framebuffer(

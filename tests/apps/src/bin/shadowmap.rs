@@ -101,10 +101,27 @@ impl ShadowMap {
         let depth_prog = shader::program(gl, DEPTH_VS, DEPTH_FS)?;
         let prog = shader::program(gl, VS, FS)?;
         let dloc = ["lightSpaceMatrix", "model"].map(|n| shader::uniform(gl, depth_prog, n));
-        let names = ["projection", "view", "model", "lightSpaceMatrix", "shadowMap", "objectColor", "lightPos", "viewPos"];
+        let names = [
+            "projection",
+            "view",
+            "model",
+            "lightSpaceMatrix",
+            "shadowMap",
+            "objectColor",
+            "lightPos",
+            "viewPos",
+        ];
         let loc = names.map(|n| shader::uniform(gl, prog, n));
         let size = (SHADOW, SHADOW);
-        let map = mp::texture(gl, gl::DEPTH_COMPONENT24, size, gl::DEPTH_COMPONENT, gl::FLOAT, gl::NEAREST, std::ptr::null());
+        let map = mp::texture(
+            gl,
+            gl::DEPTH_COMPONENT24,
+            size,
+            gl::DEPTH_COMPONENT,
+            gl::FLOAT,
+            gl::NEAREST,
+            None,
+        );
         unsafe {
             // Outside the light's frustum counts as lit (depth 1.0).
             gl.TexParameteri(gl::TEXTURE_2D, gl::TEXTURE_WRAP_S, gl::CLAMP_TO_BORDER as i32);
@@ -142,6 +159,8 @@ impl Scene for ShadowMap {
             gl.Viewport(0, 0, SHADOW, SHADOW);
             gl.Enable(gl::DEPTH_TEST);
             gl.Enable(gl::CULL_FACE);
+            // Back faces only (all objects are closed): keeps lit faces free of acne.
+            gl.CullFace(gl::FRONT);
             gl.Clear(gl::DEPTH_BUFFER_BIT);
             gl.UseProgram(self.depth_prog);
             mp::set_mat4(gl, self.dloc[0], &light);
@@ -151,6 +170,7 @@ impl Scene for ShadowMap {
             // Pass 2: the lit, shadowed scene to the default framebuffer.
             gl.BindFramebuffer(gl::FRAMEBUFFER, target);
             gl.Viewport(0, 0, w, h);
+            gl.CullFace(gl::BACK);
             gl.ClearColor(0.1, 0.12, 0.18, 1.0);
             gl.Clear(gl::COLOR_BUFFER_BIT | gl::DEPTH_BUFFER_BIT);
             gl.UseProgram(self.prog);
