@@ -1,5 +1,6 @@
 #!/usr/bin/python3
 """Exact-quilt benchmarks (DESIGN §6), all ratios measured within one run.
+`--app legacy --cost-only` measures the fixed-function app the same way.
 
 1. Injection cost: t(injected exact quilt) / t(app's own reference quilt), `cubes`, 8x6
    views of 420x560 (Looking Glass Portrait), headless EGL. Runs alternate injected /
@@ -25,8 +26,11 @@ def median_ms(cmd):
     return float(m.group(1))
 
 
+APP = "cubes"
+
+
 def app(size, frames):
-    return [os.path.join(BIN, "cubes"), "--backend", "egl", "--size", size, "--frames", str(frames)]
+    return [os.path.join(BIN, APP), "--backend", "egl", "--size", size, "--frames", str(frames)]
 
 
 def injected(quilt, tile, size, frames):
@@ -51,10 +55,18 @@ def main():
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--frames", type=int, default=40)
     ap.add_argument("--out", default=os.path.join(ROOT, "scripts", "results"))
+    ap.add_argument("--app", default="cubes", help="sample app to measure (default cubes)")
+    ap.add_argument("--cost-only", action="store_true", help="only the 8x6 420x560 injection cost")
     a = ap.parse_args()
+    global APP
+    APP = a.app
     subprocess.run(["cargo", "build", "--workspace", "--release", "--locked", "-q"], cwd=ROOT, check=True)
     os.makedirs(a.out, exist_ok=True)
     rows = []
+    if a.cost_only:
+        inj, ref = measure("8x6", "420x560", "420x560", a.frames, a.rounds)
+        print(f"{APP} 8x6 420x560: injected {inj:.2f} ms, reference {ref:.2f} ms, injection cost {inj / ref:.3f}")
+        return
     for quilt in ["1x1", "3x3", "6x4", "8x6"]:
         inj, ref = measure(quilt, "420x560", "420x560", a.frames, a.rounds)
         rows.append(("views", quilt, "420x560", inj, ref))
@@ -69,7 +81,7 @@ def main():
 
 def write_table(out, rows, a):
     lines = [
-        f"cubes, headless EGL on llvmpipe; medians of {a.rounds} runs x {a.frames} frames (10 warm-up frames dropped)",
+        f"{APP}, headless EGL on llvmpipe; medians of {a.rounds} runs x {a.frames} frames (10 warm-up frames dropped)",
         "",
         "| quilt | views | tile | injected (ms/frame) | app's own reference quilt (ms/frame) | injection cost |",
         "|---|---|---|---|---|---|",
@@ -106,7 +118,7 @@ def plot(out, rows):
     ax[1].set_xlabel("quilt megapixels (8x6 views)")
     ax[1].set_ylabel("ms / frame")
     ax[1].legend()
-    fig.suptitle("cubes on llvmpipe: frame time of the exact quilt")
+    fig.suptitle(f"{APP} on llvmpipe: frame time of the exact quilt")
     fig.tight_layout()
     fig.savefig(os.path.join(out, "quilt-benchmark.png"), dpi=100)
 
