@@ -3,7 +3,8 @@
 `--app legacy --cost-only` measures the fixed-function app the same way.
 
 1. Injection cost: t(injected exact quilt) / t(app's own reference quilt), `cubes`, 8x6
-   views of 420x560 (Looking Glass Portrait), headless EGL. Runs alternate injected /
+   views of 420x560 (Looking Glass Portrait), headless OSMesa: its frame boundary is
+   `glFinish`, so a frame's time includes its rendering (an EGL pbuffer swap does not wait). Runs alternate injected /
    reference ROUNDS times; each run reports the median of its per-frame times (app's own
    `--timing`, after 10 warm-up frames); the figure is the ratio of the medians of medians.
 2. Frame time against the number of views (1, 9, 24, 48) and against the tile size, as a
@@ -27,10 +28,11 @@ def median_ms(cmd):
 
 
 APP = "cubes"
+BACKEND = "osmesa"
 
 
 def app(size, frames):
-    return [os.path.join(BIN, APP), "--backend", "egl", "--size", size, "--frames", str(frames)]
+    return [os.path.join(BIN, APP), "--backend", BACKEND, "--size", size, "--frames", str(frames)]
 
 
 def injected(quilt, tile, size, frames):
@@ -56,10 +58,11 @@ def main():
     ap.add_argument("--frames", type=int, default=40)
     ap.add_argument("--out", default=os.path.join(ROOT, "scripts", "results"))
     ap.add_argument("--app", default="cubes", help="sample app to measure (default cubes)")
+    ap.add_argument("--backend", default="osmesa", help="osmesa (default: its glFinish frame boundary waits for rendering) or egl")
     ap.add_argument("--cost-only", action="store_true", help="only the 8x6 420x560 injection cost")
     a = ap.parse_args()
-    global APP
-    APP = a.app
+    global APP, BACKEND
+    APP, BACKEND = a.app, a.backend
     subprocess.run(["cargo", "build", "--workspace", "--release", "--locked", "-q"], cwd=ROOT, check=True)
     os.makedirs(a.out, exist_ok=True)
     rows = []
@@ -81,7 +84,7 @@ def main():
 
 def write_table(out, rows, a):
     lines = [
-        f"{APP}, headless EGL on llvmpipe; medians of {a.rounds} runs x {a.frames} frames (10 warm-up frames dropped)",
+        f"{APP}, headless {BACKEND} on llvmpipe; medians of {a.rounds} runs x {a.frames} frames (10 warm-up frames dropped)",
         "",
         "| quilt | views | tile | injected (ms/frame) | app's own reference quilt (ms/frame) | injection cost |",
         "|---|---|---|---|---|---|",
