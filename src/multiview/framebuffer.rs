@@ -84,8 +84,26 @@ pub fn patch_get(mv: &Multiview, pname: GLenum) -> Option<i32> {
     })
 }
 
-/// Clears every tile (or the app's scissored part of each) while framebuffer 0 is bound.
+/// Clears every layer of a shadowed framebuffer of the app.
+fn clear_layers(gl: &Gl, mv: &Multiview, f: &impl Fn()) -> bool {
+    let Some(shadow) = mv.shadows.get(&mv.app.draw_fbo).filter(|_| mv.app.draw_fbo != 0) else {
+        return false;
+    };
+    for &view in &shadow.views {
+        // SAFETY: our view framebuffer; the app's binding is restored below.
+        unsafe { gl.BindFramebuffer(DRAW_FRAMEBUFFER, view) };
+        f();
+    }
+    unsafe { gl.BindFramebuffer(DRAW_FRAMEBUFFER, mv.app.draw_fbo) };
+    true
+}
+
+/// Clears every tile (or the app's scissored part of each) while framebuffer 0 is bound, and
+/// every layer of a shadowed framebuffer.
 pub fn clear(gl: &Gl, mv: &Multiview, f: impl Fn()) {
+    if clear_layers(gl, mv, &f) {
+        return;
+    }
     let Some(layout) = mv.layout().filter(|_| mv.on_default_draw()) else {
         return f();
     };
@@ -111,17 +129,25 @@ pub fn centre_rect(mv: &Multiview, r: [i32; 4]) -> Option<[i32; 4]> {
     Some(layout.map_rect(mv.rig.centre(), r))
 }
 
-/// `glBlitFramebuffer` with framebuffer 0 on either side: reads come from the centre tile
-/// (or, framebuffer 0 to itself, from each view's own tile); writes go to every tile.
-pub fn blit(mv: &Multiview, src: [i32; 4], dst: [i32; 4], f: impl Fn([i32; 4], [i32; 4])) {
+/// `glBlitFramebuffer` between framebuffer 0 (tiles) and the app's framebuffers (layers when
+/// shadowed): view i reads view i's tile or layer and writes view i's; a view-dependent
+/// source makes its destination view-dependent too. A single-view end reads the centre.
+pub fn blit(gl: &Gl, mv: &mut Multiview, src: [i32; 4], dst: [i32; 4], f: impl Fn([i32; 4], [i32; 4])) {
     let Some(layout) = mv.layout().filter(|_| mv.quilt_fbo().is_some()) else {
         return f(src, dst);
     };
     let corners = |r: [i32; 4]| [r[0], r[1], r[2] - r[0], r[3] - r[1]];
     let back = |r: [i32; 4]| [r[0], r[1], r[0] + r[2], r[1] + r[3]];
-    let (src_fb0, dst_fb0) = (mv.app.read_fbo == 0, mv.app.draw_fbo == 0);
-    if !dst_fb0 {
-        let s = if src_fb0 {
+    let (read, draw) = (mv.app.read_fbo, mv.app.draw_fbo);
+    let src_layers = mv.shadows.get(&read).filter(|_| read != 0).map(|s| s.views.clone());
+    let dst_layers = match (draw, &src_layers) {
+        (0, _) => None,
+        (_, Some(_)) => super::layers::ensure_shadow(gl, mv, draw, "a view-dependent framebuffer is blitted into it"),
+        (_, None) => mv.shadows.get(&draw).map(|s| s.views.clone()),
+    };
+    let per_view = draw == 0 || src_layers.is_some() || dst_layers.is_some();
+    if !per_view {
+        let s = if read == 0 {
             back(layout.map_rect(mv.rig.centre(), corners(src)))
         } else {
             src
@@ -129,11 +155,38 @@ pub fn blit(mv: &Multiview, src: [i32; 4], dst: [i32; 4], f: impl Fn([i32; 4], [
         return f(s, dst);
     }
     for i in 0..layout.views() {
-        let s = if src_fb0 {
+        let s = if read == 0 {
             back(layout.map_rect(i, corners(src)))
         } else {
             src
         };
-        f(s, back(layout.map_rect(i, corners(dst))));
+        let d = if draw == 0 {
+            back(layout.map_rect(i, corners(dst)))
+        } else {
+            dst
+        };
+        // SAFETY: our view framebuffers in place of the app's; rebound below.
+        unsafe {
+            if let Some(v) = &src_layers {
+                gl.BindFramebuffer(READ_FRAMEBUFFER, v[i as usize]);
+            }
+            if let Some(v) = &dst_layers {
+                gl.BindFramebuffer(DRAW_FRAMEBUFFER, v[i as usize]);
+            }
+        }
+        f(s, d);
     }
+    rebind(gl, mv);
+}
+
+/// Reads from a shadowed framebuffer of the app come from the centre view's layer: binds it
+/// for reading (the caller rebinds with `rebind`).
+pub fn read_centre_layer(gl: &Gl, mv: &Multiview) -> bool {
+    let Some(s) = mv.shadows.get(&mv.app.read_fbo).filter(|_| mv.app.read_fbo != 0) else {
+        return false;
+    };
+    let view = s.views[(mv.rig.centre() as usize).min(s.views.len() - 1)];
+    // SAFETY: our view framebuffer for reading.
+    unsafe { gl.BindFramebuffer(READ_FRAMEBUFFER, view) };
+    true
 }

@@ -150,6 +150,12 @@ fn record(gl: &Gl, group: &ShareGroup, program: u32, analysis: &shader::Analysis
     ));
     group.lock().programs.insert(
         program,
-        super::replay::program_info(view_loc, projection_loc, builtin, projection_ubo),
+        super::replay::program_info(
+            view_loc,
+            projection_loc,
+            builtin,
+            projection_ubo,
+            analysis.position_kind == shader::PositionKind::Identity,
+        ),
     );
 }

@@ -13,10 +13,13 @@
 
 pub mod framebuffer;
 pub mod immediate;
+pub mod layers;
 pub mod layout;
 pub mod link;
 pub mod raster;
 pub mod replay;
+pub mod screen_space;
+pub mod shadow;
 pub mod target;
 pub mod ubo;
 
@@ -51,6 +54,8 @@ pub struct Multiview {
     pub auto_convergence: Option<f64>,
     /// Depth model of the last perspective projection seen (for auto-convergence).
     pub last_depth: Option<crate::camera::projection::DepthRange>,
+    /// The main camera's bare projection (row3 = (0,0,-s,0)), for screen-space passes.
+    pub camera_projection: Option<[f32; 16]>,
     /// Horizontal focal scale of that projection (for `--view-cone`).
     pub last_fx: Option<f64>,
     pub failed: bool,
@@ -62,6 +67,10 @@ pub struct Multiview {
     pub transform_feedback: bool,
     /// `glRenderMode` is GL_SELECT or GL_FEEDBACK: picking must see each draw once.
     pub selecting: bool,
+    /// Layered shadows of the app's framebuffers, by app name; those that cannot be.
+    pub shadows: std::collections::HashMap<u32, shadow::ShadowFbo>,
+    pub unshadowable: std::collections::HashSet<u32>,
+    pub units: layers::TextureUnits,
     /// Our full-screen passes and the native-resolution weave target.
     pub passes: crate::output::pass::Passes,
     pub native: Option<crate::output::native::NativeTarget>,
@@ -101,12 +110,16 @@ impl Multiview {
             auto_convergence: None,
             last_depth: None,
             last_fx: None,
+            camera_projection: None,
             failed: false,
             compiling_list: false,
             immediate_list: 0,
             recording_immediate: false,
             transform_feedback: false,
             selecting: false,
+            shadows: Default::default(),
+            unshadowable: Default::default(),
+            units: Default::default(),
             passes: Default::default(),
             native: None,
         };

@@ -6,7 +6,8 @@
 //! projection matrix for fixed-function draws. Everything is put back afterwards.
 
 use super::Multiview;
-use super::layout::intersect;
+use super::layout::{QuiltLayout, intersect};
+use super::{layers, screen_space};
 use crate::camera::projection::{self, ProjectionKind};
 use crate::gl::*;
 use crate::state::ShareGroup;
@@ -22,12 +23,24 @@ enum Mode {
 
 /// How a draw's views differ.
 enum Shift {
-    /// `holoinject_view` at this location.
-    Uniform { loc: i32, mode: Mode },
+    /// `holoinject_view` at this location; `camera`: the draw is seen through the main
+    /// camera (not a full-screen pass with positions given in NDC).
+    Uniform { loc: i32, mode: Mode, camera: bool },
     /// Fixed function: the app's projection, sheared per view.
     Projection([f32; 16]),
     /// Nothing view-dependent (orthographic fixed function, or a program we left alone).
     None,
+}
+
+impl Shift {
+    /// A draw that makes its target view-dependent.
+    fn camera(&self) -> bool {
+        match self {
+            Shift::Uniform { mode, camera, .. } => *camera && *mode != Mode::Orthographic,
+            Shift::Projection(_) => true,
+            Shift::None => false,
+        }
+    }
 }
 
 fn fixed_function_projection(gl: &Gl) -> Option<[f32; 16]> {
@@ -41,6 +54,10 @@ fn mode_of(matrix: Option<[f32; 16]>, mv: &mut Multiview) -> Mode {
     match matrix.and_then(|m| projection::classify(&m)) {
         Some(p) if p.kind == ProjectionKind::Orthographic => Mode::Orthographic,
         Some(p) => {
+            let m = matrix.unwrap_or_default();
+            if m[3] == 0.0 && m[7] == 0.0 && m[15] == 0.0 && m[11] < 0.0 {
+                mv.camera_projection = Some(m);
+            }
             if p.depth.is_some() {
                 mv.last_depth = p.depth;
                 mv.last_fx = p.fx.or(mv.last_fx);
@@ -67,11 +84,12 @@ fn shift_for(gl: &Gl, mv: &mut Multiview, group: &ShareGroup) -> Shift {
     let Some(info) = state.programs.get(&program).filter(|p| p.view_loc >= 0) else {
         return Shift::None;
     };
-    let (loc, builtin, plain, ubo) = (
+    let (loc, builtin, plain, ubo, camera) = (
         info.view_loc,
         info.builtin_projection,
         info.projection_loc,
         info.projection_ubo,
+        !info.identity,
     );
     let matrix = if builtin {
         fixed_function_projection(gl)
@@ -84,6 +102,7 @@ fn shift_for(gl: &Gl, mv: &mut Multiview, group: &ShareGroup) -> Shift {
     Shift::Uniform {
         loc,
         mode: mode_of(matrix, mv),
+        camera,
     }
 }
 
@@ -148,14 +167,57 @@ pub const SINGLE: u32 = u32::MAX;
 /// `draw`, with the view index (or `SINGLE`) given to the callback, for draws that need
 /// per-view work of their own (raster positions).
 pub fn draw_views(gl: &Gl, mv: &mut Multiview, group: &ShareGroup, f: impl Fn(u32)) {
-    let Some(layout) = mv.layout().filter(|_| mv.on_default_draw() && !captures_once(gl, mv)) else {
+    let Some(layout) = mv
+        .layout()
+        .filter(|_| !mv.failed && !mv.compiling_list && !captures_once(gl, mv))
+    else {
         return draw_single(gl, mv, group, || f(SINGLE));
     };
+    let subs = layers::substitutions(mv);
     let shift = shift_for(gl, mv, group);
-    // SAFETY: viewport, scissor, uniform and projection changes below are all restored.
-    let scissored = unsafe { gl.IsEnabled(SCISSOR_TEST) } != 0;
+    let identity = matches!(shift, Shift::Uniform { camera: false, .. });
+    let camera_uniforms = screen_space::camera_uniforms(mv, group, identity);
     let app_matrix_mode =
         matches!(shift, Shift::Projection(_)).then(|| crate::gl::guard::get_i(gl, MATRIX_MODE) as u32);
+    let set_view = |mv: &Multiview, i: u32| {
+        layers::bind_layers(gl, mv, &subs, Some(i as usize));
+        screen_space::set(gl, mv, &camera_uniforms, Some(i));
+        match shift {
+            Shift::Uniform { loc, mode, .. } => set_view_uniform(gl, mv, loc, i, mode),
+            Shift::Projection(p) => load_projection(gl, &sheared(mv, i, &p), app_matrix_mode),
+            Shift::None => {}
+        }
+    };
+    if mv.app.draw_fbo == 0 {
+        draw_tiles(gl, mv, layout, |mv, i| set_view(mv, i), &f);
+    } else if let Some(views) = layers::target_views(gl, mv, mv.app.draw_fbo, shift.camera(), &subs) {
+        for (i, &fbo) in views.iter().enumerate() {
+            // SAFETY: our view framebuffer in place of the app's; rebound below.
+            unsafe { gl.BindFramebuffer(DRAW_FRAMEBUFFER, fbo) };
+            set_view(mv, i as u32);
+            f(i as u32);
+        }
+        // SAFETY: the app's own framebuffer back.
+        unsafe { gl.BindFramebuffer(DRAW_FRAMEBUFFER, mv.app.draw_fbo) };
+    } else {
+        // An unshadowed target sampling layered textures sees the centre view's layer.
+        layers::bind_layers(gl, mv, &subs, Some(mv.rig.centre() as usize));
+        draw_single(gl, mv, group, || f(SINGLE));
+        layers::bind_layers(gl, mv, &subs, None);
+        return;
+    }
+    layers::bind_layers(gl, mv, &subs, None);
+    screen_space::set(gl, mv, &camera_uniforms, None);
+    if let Shift::Projection(p) = shift {
+        load_projection(gl, &p, app_matrix_mode);
+    }
+    finish_shift(mv, &shift, group);
+}
+
+/// The tile loop: viewport and scissor mapped into each view's tile.
+fn draw_tiles(gl: &Gl, mv: &Multiview, layout: QuiltLayout, set_view: impl Fn(&Multiview, u32), f: &impl Fn(u32)) {
+    // SAFETY: viewport and scissor changes below are restored after the loop.
+    let scissored = unsafe { gl.IsEnabled(SCISSOR_TEST) } != 0;
     unsafe { gl.Enable(SCISSOR_TEST) };
     for i in 0..layout.views() {
         let vp = layout.map_rect(i, mv.app.viewport);
@@ -169,17 +231,17 @@ pub fn draw_views(gl: &Gl, mv: &mut Multiview, group: &ShareGroup, f: impl Fn(u3
             gl.Viewport(vp[0], vp[1], vp[2], vp[3]);
             gl.Scissor(sc[0], sc[1], sc[2], sc[3]);
         }
-        match shift {
-            Shift::Uniform { loc, mode } => set_view_uniform(gl, mv, loc, i, mode),
-            Shift::Projection(p) => load_projection(gl, &sheared(mv, i, &p), app_matrix_mode),
-            Shift::None => {}
-        }
+        set_view(mv, i);
         f(i);
     }
-    if let Shift::Projection(p) = shift {
-        load_projection(gl, &p, app_matrix_mode);
+    let (v, s) = (mv.app.viewport, mv.app.scissor);
+    unsafe {
+        gl.Viewport(v[0], v[1], v[2], v[3]);
+        gl.Scissor(s[0], s[1], s[2], s[3]);
+        if !scissored {
+            gl.Disable(SCISSOR_TEST);
+        }
     }
-    restore(gl, mv, scissored, &shift, group);
 }
 
 fn sheared(mv: &Multiview, i: u32, p: &[f32; 16]) -> [f32; 16] {
@@ -197,16 +259,8 @@ fn load_projection(gl: &Gl, m: &[f32; 16], app_mode: Option<u32>) {
     }
 }
 
-fn restore(gl: &Gl, mv: &Multiview, scissored: bool, shift: &Shift, group: &ShareGroup) {
-    let (v, s) = (mv.app.viewport, mv.app.scissor);
-    // SAFETY: putting back the app's own values.
-    unsafe {
-        gl.Viewport(v[0], v[1], v[2], v[3]);
-        gl.Scissor(s[0], s[1], s[2], s[3]);
-        if !scissored {
-            gl.Disable(SCISSOR_TEST);
-        }
-    }
+/// The program's view uniform now holds the last view's shift, not the centre's.
+fn finish_shift(mv: &Multiview, shift: &Shift, group: &ShareGroup) {
     if let Shift::Uniform { .. } = shift {
         if let Some(p) = group.lock().programs.get_mut(&mv.program) {
             p.centre_set = false;
@@ -220,12 +274,14 @@ pub fn program_info(
     projection_loc: Option<i32>,
     builtin_projection: bool,
     projection_ubo: Option<super::ubo::UboMember>,
+    identity: bool,
 ) -> ProgramInfo {
     ProgramInfo {
         view_loc,
         projection_loc,
         projection_ubo,
         ubo_cache: None,
+        identity,
         builtin_projection,
         centre_set: false,
     }

@@ -24,7 +24,8 @@ pub fn glDrawBuffer(real: impl Fn(GLenum), buf: GLenum) {
             fb::map_buffer(buf)
         })
     });
-    real(mapped.flatten().unwrap_or(buf))
+    real(mapped.flatten().unwrap_or(buf));
+    draw_buffers_changed(&[buf]);
 }
 
 pub fn glReadBuffer(real: impl Fn(GLenum), buf: GLenum) {
@@ -37,10 +38,29 @@ pub fn glReadBuffer(real: impl Fn(GLenum), buf: GLenum) {
     real(mapped.flatten().unwrap_or(buf))
 }
 
+/// New draw buffers on a shadowed framebuffer: its view framebuffers get the same (many
+/// renderers set them every frame, so the shadow is kept, not rebuilt).
+fn draw_buffers_changed(bufs: &[GLenum]) {
+    with_active(|_, mv, gl| {
+        let Some(s) = mv.shadows.get(&mv.app.draw_fbo).filter(|_| mv.app.draw_fbo != 0) else {
+            return;
+        };
+        for &view in &s.views {
+            // SAFETY: our own view framebuffers, named (no binding change).
+            unsafe { gl.NamedFramebufferDrawBuffers(view, bufs.len() as i32, bufs.as_ptr()) };
+        }
+    });
+}
+
 pub fn glDrawBuffers(real: impl Fn(GLsizei, *const GLenum), n: GLsizei, bufs: *const GLenum) {
     let on_fb0 = with_active(|_, mv, _| mv.quilt_fbo().is_some() && mv.app.draw_fbo == 0).unwrap_or(false);
     if !on_fb0 || bufs.is_null() || n <= 0 {
-        return real(n, bufs);
+        real(n, bufs);
+        if !bufs.is_null() && n > 0 {
+            // SAFETY: the app passes `n` buffer names.
+            draw_buffers_changed(unsafe { std::slice::from_raw_parts(bufs, n as usize) });
+        }
+        return;
     }
     // SAFETY: the app passes `n` buffer names.
     let app: Vec<GLenum> = unsafe { std::slice::from_raw_parts(bufs, n as usize) }.to_vec();
@@ -96,10 +116,22 @@ pub fn glReadPixels(
     ty: GLenum,
     data: *mut c_void,
 ) {
-    let rect = with_active(|_, mv, _| fb::centre_rect(mv, [x, y, w, h])).flatten();
-    match rect {
-        Some(r) => real(r[0], r[1], w, h, format, ty, data),
-        None => real(x, y, w, h, format, ty, data),
+    centre_read([x, y, w, h], |r| real(r[0], r[1], w, h, format, ty, data))
+}
+
+/// Runs a read of the app's read framebuffer so it sees the centre view: the centre tile of
+/// framebuffer 0, or the centre layer of a shadowed framebuffer.
+fn centre_read(rect: [i32; 4], read: impl Fn([i32; 4])) {
+    let done = with_active(|_, mv, gl| {
+        if fb::read_centre_layer(gl, mv) {
+            read(rect);
+            fb::rebind(gl, mv);
+        } else {
+            read(fb::centre_rect(mv, rect).unwrap_or(rect));
+        }
+    });
+    if done.is_none() {
+        read(rect)
     }
 }
 
@@ -115,10 +147,7 @@ pub fn glCopyTexSubImage2D(
     w: GLsizei,
     h: GLsizei,
 ) {
-    let r = with_active(|_, mv, _| fb::centre_rect(mv, [x, y, w, h]))
-        .flatten()
-        .unwrap_or([x, y, w, h]);
-    real(target, level, xoff, yoff, r[0], r[1], w, h)
+    centre_read([x, y, w, h], |r| real(target, level, xoff, yoff, r[0], r[1], w, h))
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -133,10 +162,7 @@ pub fn glCopyTexImage2D(
     h: GLsizei,
     border: GLint,
 ) {
-    let r = with_active(|_, mv, _| fb::centre_rect(mv, [x, y, w, h]))
-        .flatten()
-        .unwrap_or([x, y, w, h]);
-    real(target, level, format, r[0], r[1], w, h, border)
+    centre_read([x, y, w, h], |r| real(target, level, format, r[0], r[1], w, h, border))
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -154,7 +180,7 @@ pub fn glBlitFramebuffer(
     filter: GLenum,
 ) {
     let f = |s: [i32; 4], d: [i32; 4]| real(s[0], s[1], s[2], s[3], d[0], d[1], d[2], d[3], mask, filter);
-    if with_active(|_, mv, _| fb::blit(mv, [sx0, sy0, sx1, sy1], [dx0, dy0, dx1, dy1], f)).is_none() {
+    if with_active(|_, mv, gl| fb::blit(gl, mv, [sx0, sy0, sx1, sy1], [dx0, dy0, dx1, dy1], f)).is_none() {
         f([sx0, sy0, sx1, sy1], [dx0, dy0, dx1, dy1])
     }
 }

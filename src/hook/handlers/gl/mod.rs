@@ -8,6 +8,7 @@ mod immediate;
 mod program;
 mod query;
 mod raster;
+mod texture;
 
 pub use buffer::*;
 pub use draw::*;
@@ -17,6 +18,7 @@ pub use immediate::*;
 pub use program::*;
 pub use query::*;
 pub use raster::*;
+pub use texture::*;
 
 /// Replays `f` once per view when multiview applies to the current draw, else calls it once.
 fn per_view(f: impl Fn()) {

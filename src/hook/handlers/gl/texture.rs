@@ -1,0 +1,208 @@
+//! Texture units and the objects behind layered shadows: the bindings the per-view texture
+//! substitution needs, and every call that makes a shadow stale (re-attachment, new storage,
+//! deletion) or needs mirroring (mipmaps).
+
+use crate::gl::types::*;
+use crate::multiview::layers::forget;
+use crate::multiview::with_active;
+use core::ffi::c_void;
+
+pub fn glActiveTexture(real: impl Fn(GLenum), texture: GLenum) {
+    with_active(|_, mv, _| mv.units.active = texture.wrapping_sub(crate::gl::TEXTURE0));
+    real(texture)
+}
+
+pub fn glBindTexture(real: impl Fn(GLenum, GLuint), target: GLenum, texture: GLuint) {
+    if target == crate::gl::TEXTURE_2D {
+        with_active(|_, mv, _| mv.units.bind(mv.units.active, texture));
+    }
+    real(target, texture)
+}
+
+pub fn glBindTextureUnit(real: impl Fn(GLuint, GLuint), unit: GLuint, texture: GLuint) {
+    with_active(|_, mv, _| mv.units.bind(unit, texture));
+    real(unit, texture)
+}
+
+pub fn glBindTextures(
+    real: impl Fn(GLuint, GLsizei, *const GLuint),
+    first: GLuint,
+    count: GLsizei,
+    textures: *const GLuint,
+) {
+    with_active(|_, mv, _| {
+        for i in 0..count.max(0) as u32 {
+            // SAFETY: the app passes `count` names, or NULL to unbind them all.
+            let t = if textures.is_null() {
+                0
+            } else {
+                unsafe { *textures.add(i as usize) }
+            };
+            mv.units.bind(first + i, t);
+        }
+    });
+    real(first, count, textures)
+}
+
+pub fn glGenerateMipmap(real: impl Fn(GLenum), target: GLenum) {
+    real(target);
+    with_active(|_, mv, gl| {
+        let tex = mv.units.bound_2d.get(mv.units.active as usize).copied().unwrap_or(0);
+        if target == crate::gl::TEXTURE_2D && tex != 0 {
+            mv.shadows.values().for_each(|s| s.generate_mipmaps(gl, tex));
+        }
+    });
+}
+
+/// The texture bound to `binding` (a `GL_TEXTURE_BINDING_*` or `GL_RENDERBUFFER_BINDING`).
+fn bound(gl: &crate::gl::Gl, binding: GLenum) -> u32 {
+    crate::gl::guard::get_i(gl, binding) as u32
+}
+
+fn storage_changed(renderbuffer: bool, binding: GLenum) {
+    with_active(|_, mv, gl| {
+        let name = bound(gl, binding);
+        forget(gl, mv, |_, s| s.owns(name, renderbuffer));
+    });
+}
+
+#[allow(clippy::too_many_arguments)]
+pub fn glTexImage2D(
+    real: impl Fn(GLenum, GLint, GLint, GLsizei, GLsizei, GLint, GLenum, GLenum, *const c_void),
+    target: GLenum,
+    level: GLint,
+    internal: GLint,
+    w: GLsizei,
+    h: GLsizei,
+    border: GLint,
+    format: GLenum,
+    ty: GLenum,
+    data: *const c_void,
+) {
+    real(target, level, internal, w, h, border, format, ty, data);
+    if target == crate::gl::TEXTURE_2D && level == 0 {
+        storage_changed(false, crate::gl::TEXTURE_BINDING_2D);
+    }
+}
+
+pub fn glTexStorage2D(
+    real: impl Fn(GLenum, GLsizei, GLenum, GLsizei, GLsizei),
+    target: GLenum,
+    levels: GLsizei,
+    format: GLenum,
+    w: GLsizei,
+    h: GLsizei,
+) {
+    real(target, levels, format, w, h);
+    if target == crate::gl::TEXTURE_2D {
+        storage_changed(false, crate::gl::TEXTURE_BINDING_2D);
+    }
+}
+
+pub fn glRenderbufferStorage(
+    real: impl Fn(GLenum, GLenum, GLsizei, GLsizei),
+    target: GLenum,
+    format: GLenum,
+    w: GLsizei,
+    h: GLsizei,
+) {
+    real(target, format, w, h);
+    storage_changed(true, crate::gl::RENDERBUFFER_BINDING);
+}
+
+pub fn glRenderbufferStorageMultisample(
+    real: impl Fn(GLenum, GLsizei, GLenum, GLsizei, GLsizei),
+    target: GLenum,
+    samples: GLsizei,
+    format: GLenum,
+    w: GLsizei,
+    h: GLsizei,
+) {
+    real(target, samples, format, w, h);
+    storage_changed(true, crate::gl::RENDERBUFFER_BINDING);
+}
+
+/// The app's framebuffer bound to `target` was re-attached: its shadow is rebuilt on demand.
+fn reattached(target: GLenum) {
+    with_active(|_, mv, gl| {
+        let fbo = if target == crate::gl::READ_FRAMEBUFFER {
+            mv.app.read_fbo
+        } else {
+            mv.app.draw_fbo
+        };
+        mv.unshadowable.remove(&fbo);
+        forget(gl, mv, |f, _| f == fbo);
+    });
+}
+
+pub fn glFramebufferTexture2D(
+    real: impl Fn(GLenum, GLenum, GLenum, GLuint, GLint),
+    target: GLenum,
+    att: GLenum,
+    textarget: GLenum,
+    tex: GLuint,
+    level: GLint,
+) {
+    real(target, att, textarget, tex, level);
+    reattached(target);
+}
+
+pub fn glFramebufferTexture(
+    real: impl Fn(GLenum, GLenum, GLuint, GLint),
+    target: GLenum,
+    att: GLenum,
+    tex: GLuint,
+    level: GLint,
+) {
+    real(target, att, tex, level);
+    reattached(target);
+}
+
+pub fn glFramebufferRenderbuffer(
+    real: impl Fn(GLenum, GLenum, GLenum, GLuint),
+    target: GLenum,
+    att: GLenum,
+    rbt: GLenum,
+    rb: GLuint,
+) {
+    real(target, att, rbt, rb);
+    reattached(target);
+}
+
+fn names<'a>(n: GLsizei, p: *const GLuint) -> &'a [GLuint] {
+    if p.is_null() || n <= 0 {
+        return &[];
+    }
+    // SAFETY: the app passes `n` names.
+    unsafe { std::slice::from_raw_parts(p, n as usize) }
+}
+
+pub fn glDeleteFramebuffers(real: impl Fn(GLsizei, *const GLuint), n: GLsizei, fbos: *const GLuint) {
+    with_active(|_, mv, gl| {
+        let gone = names(n, fbos);
+        gone.iter().for_each(|f| _ = mv.unshadowable.remove(f));
+        forget(gl, mv, |f, _| gone.contains(&f));
+    });
+    real(n, fbos)
+}
+
+pub fn glDeleteTextures(real: impl Fn(GLsizei, *const GLuint), n: GLsizei, textures: *const GLuint) {
+    with_active(|_, mv, gl| {
+        let gone = names(n, textures);
+        forget(gl, mv, |_, s| gone.iter().any(|&t| s.owns(t, false)));
+        mv.units
+            .bound_2d
+            .iter_mut()
+            .filter(|t| gone.contains(t))
+            .for_each(|t| *t = 0);
+    });
+    real(n, textures)
+}
+
+pub fn glDeleteRenderbuffers(real: impl Fn(GLsizei, *const GLuint), n: GLsizei, rbs: *const GLuint) {
+    with_active(|_, mv, gl| {
+        let gone = names(n, rbs);
+        forget(gl, mv, |_, s| gone.iter().any(|&r| s.owns(r, true)));
+    });
+    real(n, rbs)
+}

@@ -1,0 +1,130 @@
+//! Which draws go to layered shadows, and the per-view texture substitution (see `shadow`).
+
+use super::Multiview;
+use super::shadow::{self, ShadowFbo};
+use crate::gl::*;
+
+/// Texture bindings of `GL_TEXTURE_2D` per unit, as the app made them.
+#[derive(Clone, Debug, Default)]
+pub struct TextureUnits {
+    pub active: u32,
+    pub bound_2d: Vec<u32>,
+}
+
+impl TextureUnits {
+    pub fn bind(&mut self, unit: u32, texture: u32) {
+        let unit = unit as usize;
+        if unit >= 192 {
+            return;
+        }
+        if self.bound_2d.len() <= unit {
+            self.bound_2d.resize(unit + 1, 0);
+        }
+        self.bound_2d[unit] = texture;
+    }
+}
+
+/// Units whose bound texture has layer views: (unit, app texture, views).
+pub type Substitutions = Vec<(u32, u32, Vec<u32>)>;
+
+pub fn substitutions(mv: &Multiview) -> Substitutions {
+    if mv.shadows.is_empty() {
+        return Vec::new();
+    }
+    let mut subs = Vec::new();
+    for (unit, &tex) in mv.units.bound_2d.iter().enumerate().filter(|(_, t)| **t != 0) {
+        if let Some(views) = mv.shadows.values().find_map(|s| s.layer_views_of(tex)) {
+            subs.push((unit as u32, tex, views.to_vec()));
+        }
+    }
+    subs
+}
+
+/// Binds view `i`'s layers (`None`: the app's own textures back) on the substituted units.
+pub fn bind_layers(gl: &Gl, mv: &Multiview, subs: &Substitutions, i: Option<usize>) {
+    if subs.is_empty() {
+        return;
+    }
+    // SAFETY: texture bindings of this context; the app's active unit is put back.
+    unsafe {
+        for (unit, app, views) in subs {
+            gl.ActiveTexture(TEXTURE0 + unit);
+            gl.BindTexture(TEXTURE_2D, i.map_or(*app, |i| views[i.min(views.len() - 1)]));
+        }
+        gl.ActiveTexture(TEXTURE0 + mv.units.active);
+    }
+}
+
+/// Why a draw into the app's framebuffer `fbo` is view-dependent, if it is.
+pub fn dependence(gl: &Gl, mv: &Multiview, fbo: u32, camera_draw: bool, subs: &Substitutions) -> Option<&'static str> {
+    if !subs.is_empty() {
+        Some("it samples a view-dependent texture")
+    } else if camera_draw && shadow::has_color_attachment(gl, fbo) {
+        Some("the main camera draws into it")
+    } else {
+        let _ = mv;
+        None
+    }
+}
+
+/// The per-view framebuffers for a draw into the app's `fbo`, creating its shadow when the
+/// draw makes it view-dependent.
+pub fn target_views(
+    gl: &Gl,
+    mv: &mut Multiview,
+    fbo: u32,
+    camera_draw: bool,
+    subs: &Substitutions,
+) -> Option<Vec<u32>> {
+    if let Some(s) = mv.shadows.get(&fbo) {
+        return Some(s.views.clone());
+    }
+    if mv.unshadowable.contains(&fbo) || !shadow::supported(gl, mv.info) {
+        return None;
+    }
+    let why = dependence(gl, mv, fbo, camera_draw, subs)?;
+    ensure_shadow(gl, mv, fbo, why)
+}
+
+/// Creates the shadow of `fbo` (logged once, with the reason).
+pub fn ensure_shadow(gl: &Gl, mv: &mut Multiview, fbo: u32, why: &str) -> Option<Vec<u32>> {
+    if let Some(s) = mv.shadows.get(&fbo) {
+        return Some(s.views.clone());
+    }
+    if mv.unshadowable.contains(&fbo) || !shadow::supported(gl, mv.info) {
+        return None;
+    }
+    let n = mv.rig.views;
+    match ShadowFbo::create(gl, mv.info, fbo, n) {
+        Ok(s) => {
+            crate::log::info(format_args!(
+                "framebuffer {fbo} shadowed with {n} layers ({}x{}): {why}",
+                s.size.0, s.size.1
+            ));
+            let views = s.views.clone();
+            mv.shadows.insert(fbo, s);
+            Some(views)
+        }
+        Err(e) => {
+            crate::log::info(format_args!("framebuffer {fbo} stays single-view: {e}"));
+            mv.unshadowable.insert(fbo);
+            None
+        }
+    }
+}
+
+/// Drops shadows that no longer match the app's objects (re-attached, resized, deleted).
+pub fn forget(gl: &Gl, mv: &mut Multiview, pred: impl Fn(u32, &ShadowFbo) -> bool) {
+    let stale: Vec<u32> = mv
+        .shadows
+        .iter()
+        .filter(|(f, s)| pred(**f, s))
+        .map(|(f, _)| *f)
+        .collect();
+    for fbo in stale {
+        if let Some(s) = mv.shadows.remove(&fbo) {
+            crate::log::debug(format_args!("framebuffer {fbo}: shadow dropped"));
+            s.delete(gl);
+        }
+    }
+}

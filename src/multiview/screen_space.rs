@@ -1,0 +1,106 @@
+//! Screen-space passes that re-project with the camera (SSAO kernels, screen-space
+//! reflections, deferred lighting that rebuilds positions from depth) draw a full-screen quad
+//! but use the camera's projection — or its inverse — in their fragment shader. During view
+//! i's replay those uniforms get view i's sheared projection `P'_i` (or its inverse), found by
+//! value: a tracked `mat4` of the program equal to the main camera's projection.
+
+use super::Multiview;
+use crate::gl::*;
+use crate::state::ShareGroup;
+
+/// A uniform of the current program that holds the camera projection (or its inverse).
+#[derive(Clone, Copy, Debug)]
+pub struct CameraUniform {
+    pub loc: i32,
+    pub inverse: bool,
+    pub original: [f32; 16],
+}
+
+fn close(a: &[f32; 16], b: &[f64; 16]) -> bool {
+    let scale = b.iter().fold(0f64, |m, v| m.max(v.abs())).max(1e-30);
+    a.iter().zip(b).all(|(x, y)| (*x as f64 - y).abs() <= 1e-5 * scale)
+}
+
+/// 4x4 inverse (column-major) by cofactors, in f64.
+pub fn invert(m: &[f64; 16]) -> Option<[f64; 16]> {
+    let at = |c: usize, r: usize| m[c * 4 + r];
+    let mut inv = [0f64; 16];
+    for c in 0..4 {
+        for r in 0..4 {
+            let minor = |skip_c: usize, skip_r: usize| {
+                let cols: Vec<usize> = (0..4).filter(|&x| x != skip_c).collect();
+                let rows: Vec<usize> = (0..4).filter(|&x| x != skip_r).collect();
+                let e = |i: usize, j: usize| at(cols[i], rows[j]);
+                e(0, 0) * (e(1, 1) * e(2, 2) - e(2, 1) * e(1, 2)) - e(1, 0) * (e(0, 1) * e(2, 2) - e(2, 1) * e(0, 2))
+                    + e(2, 0) * (e(0, 1) * e(1, 2) - e(1, 1) * e(0, 2))
+            };
+            let sign = if (c + r) % 2 == 0 { 1.0 } else { -1.0 };
+            // inverse = adjugate / det: adjugate(c, r) = cofactor(r, c).
+            inv[c * 4 + r] = sign * minor(r, c);
+        }
+    }
+    let det: f64 = (0..4).map(|c| at(c, 0) * inv[c]).sum();
+    (det.abs() > 1e-300).then(|| inv.map(|v| v / det))
+}
+
+/// The camera-projection uniforms of the current program, when it is a screen-space pass.
+pub fn camera_uniforms(mv: &Multiview, group: &ShareGroup, identity: bool) -> Vec<CameraUniform> {
+    let Some(p) = mv.camera_projection.filter(|_| identity && mv.program != 0) else {
+        return Vec::new();
+    };
+    let p64 = p.map(f64::from);
+    let Some(inv) = invert(&p64) else { return Vec::new() };
+    let state = group.lock();
+    state
+        .matrices
+        .iter()
+        .filter(|((prog, _), _)| *prog == mv.program)
+        .filter_map(|(&(_, loc), m)| {
+            let inverse = close(m, &inv);
+            (inverse || close(m, &p64)).then_some(CameraUniform {
+                loc,
+                inverse,
+                original: *m,
+            })
+        })
+        .collect()
+}
+
+/// Uploads view `i`'s sheared projection (or its inverse); `None`: the app's values back.
+pub fn set(gl: &Gl, mv: &Multiview, uniforms: &[CameraUniform], i: Option<u32>) {
+    let Some(p) = mv.camera_projection else { return };
+    for u in uniforms {
+        let value = match i {
+            None => u.original,
+            Some(i) => {
+                let sheared = mv.rig.shear(i, &p.map(f64::from));
+                let m = if u.inverse {
+                    invert(&sheared).unwrap_or(sheared)
+                } else {
+                    sheared
+                };
+                m.map(|v| v as f32)
+            }
+        };
+        // SAFETY: a uniform of the current program, through the real entry point (so our
+        // tracking keeps the app's value).
+        unsafe { gl.ProgramUniformMatrix4fv(mv.program, u.loc, 1, FALSE, value.as_ptr()) };
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn inverse_of_a_projection() {
+        let p = [
+            1.5, 0., 0., 0., 0., 2.0, 0., 0., 0.1, -0.2, -1.002, -1., 0., 0., -0.2002, 0.,
+        ];
+        let inv = super::invert(&p).unwrap();
+        for c in 0..4 {
+            for r in 0..4 {
+                let v: f64 = (0..4).map(|k| p[k * 4 + r] * inv[c * 4 + k]).sum();
+                assert!((v - if c == r { 1.0 } else { 0.0 }).abs() < 1e-9);
+            }
+        }
+    }
+}

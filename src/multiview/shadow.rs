@@ -1,0 +1,329 @@
+//! Layered shadows of the app's framebuffer objects.
+//!
+//! Multi-pass renderers draw the scene into their own framebuffers (post-processing,
+//! G-buffers, HDR) and only then to framebuffer 0. For those passes to differ per view, each
+//! such framebuffer gets a shadow: every attachment becomes an N-layer array texture (layer
+//! i = view i), plus one framebuffer per view with layer i attached in the app's attachment
+//! points and draw buffers. A draw into the app's framebuffer is replayed once per view into
+//! the view's framebuffer; a texture sampled during view i's replay is replaced by a texture
+//! view of layer i (created once, never per draw). The app keeps its own names and answers:
+//! its attachments just stop being written while the shadow lives.
+//!
+//! Built with GL 4.5 direct state access and texture views (4.3): no binding of ours is ever
+//! visible to the app. Older contexts keep the centre view in off-screen passes.
+
+use crate::gl::*;
+use crate::state::GlInfo;
+
+pub struct ShadowAttachment {
+    pub point: GLenum,
+    /// The app's texture or renderbuffer.
+    pub app_name: u32,
+    pub renderbuffer: bool,
+    pub array: u32,
+    /// Per-layer `GL_TEXTURE_2D` views for sampling (single-sample textures only).
+    pub layer_views: Vec<u32>,
+}
+
+pub struct ShadowFbo {
+    pub views: Vec<u32>,
+    pub attachments: Vec<ShadowAttachment>,
+    pub size: (i32, i32),
+}
+
+/// Shadowing needs direct state access, texture views and image copies.
+pub fn supported(gl: &Gl, info: GlInfo) -> bool {
+    !info.es && info.at_least(4, 5) && gl.TextureView.is_loaded() && gl.CopyImageSubData.is_loaded()
+}
+
+const POINTS: [GLenum; 10] = [
+    COLOR_ATTACHMENT0,
+    COLOR_ATTACHMENT1,
+    COLOR_ATTACHMENT2,
+    COLOR_ATTACHMENT3,
+    COLOR_ATTACHMENT4,
+    COLOR_ATTACHMENT5,
+    COLOR_ATTACHMENT6,
+    COLOR_ATTACHMENT7,
+    DEPTH_ATTACHMENT,
+    STENCIL_ATTACHMENT,
+];
+
+fn attachment_iv(gl: &Gl, fbo: u32, point: GLenum, pname: GLenum) -> i32 {
+    let mut v = 0;
+    // SAFETY: a single-integer query on a framebuffer name.
+    unsafe { gl.GetNamedFramebufferAttachmentParameteriv(fbo, point, pname, &mut v) };
+    v
+}
+
+/// What is attached where: (point, name, is renderbuffer). A texture or renderbuffer in both
+/// depth and stencil points becomes one depth-stencil attachment.
+fn attachments(gl: &Gl, fbo: u32) -> Result<Vec<(GLenum, u32, bool)>, String> {
+    let mut found: Vec<(GLenum, u32, bool)> = Vec::new();
+    for point in POINTS {
+        let ty = attachment_iv(gl, fbo, point, FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE) as GLenum;
+        if ty == NONE {
+            continue;
+        }
+        let name = attachment_iv(gl, fbo, point, FRAMEBUFFER_ATTACHMENT_OBJECT_NAME) as u32;
+        if ty == TEXTURE && attachment_iv(gl, fbo, point, FRAMEBUFFER_ATTACHMENT_TEXTURE_LEVEL) != 0 {
+            return Err(format!("framebuffer {fbo}: attachment {point:#x} is not mip level 0"));
+        }
+        match found
+            .iter_mut()
+            .find(|(p, n, _)| *p == DEPTH_ATTACHMENT && *n == name && point == STENCIL_ATTACHMENT)
+        {
+            Some(depth) => depth.0 = DEPTH_STENCIL_ATTACHMENT,
+            None => found.push((point, name, ty == RENDERBUFFER)),
+        }
+    }
+    Ok(found)
+}
+
+/// (internal format, width, height, samples, levels) of an attachment; only 2D textures
+/// (single- or multi-sample) and renderbuffers are shadowed.
+fn describe(gl: &Gl, name: u32, renderbuffer: bool) -> Result<(GLenum, i32, i32, i32, i32), String> {
+    let mut v = [0i32; 4];
+    // SAFETY: single-integer queries on the app's object names.
+    unsafe {
+        if renderbuffer {
+            for (i, p) in [
+                RENDERBUFFER_INTERNAL_FORMAT,
+                RENDERBUFFER_WIDTH,
+                RENDERBUFFER_HEIGHT,
+                RENDERBUFFER_SAMPLES,
+            ]
+            .into_iter()
+            .enumerate()
+            {
+                gl.GetNamedRenderbufferParameteriv(name, p, &mut v[i]);
+            }
+            return Ok((v[0] as GLenum, v[1], v[2], v[3], 1));
+        }
+        let mut target = 0;
+        gl.GetTextureParameteriv(name, TEXTURE_TARGET, &mut target);
+        if target as GLenum != TEXTURE_2D && target as GLenum != TEXTURE_2D_MULTISAMPLE {
+            return Err(format!("texture {name}: target {target:#x} is not shadowed (2D only)"));
+        }
+        for (i, p) in [TEXTURE_INTERNAL_FORMAT, TEXTURE_WIDTH, TEXTURE_HEIGHT, TEXTURE_SAMPLES]
+            .into_iter()
+            .enumerate()
+        {
+            gl.GetTextureLevelParameteriv(name, 0, p, &mut v[i]);
+        }
+        let mut levels = 1;
+        while levels < 16 {
+            let mut w = 0;
+            gl.GetTextureLevelParameteriv(name, levels, TEXTURE_WIDTH, &mut w);
+            if w == 0 {
+                break;
+            }
+            levels += 1;
+        }
+        Ok((v[0] as GLenum, v[1], v[2], v[3], levels))
+    }
+}
+
+const SAMPLER_PARAMS: [GLenum; 6] = [
+    TEXTURE_MIN_FILTER,
+    TEXTURE_MAG_FILTER,
+    TEXTURE_WRAP_S,
+    TEXTURE_WRAP_T,
+    TEXTURE_COMPARE_MODE,
+    TEXTURE_COMPARE_FUNC,
+];
+
+/// One layer view per view, sampling like the app's texture does.
+fn layer_views(gl: &Gl, app: u32, array: u32, format: GLenum, levels: i32, n: u32) -> Vec<u32> {
+    (0..n)
+        .map(|layer| {
+            let mut view = 0;
+            // SAFETY: a new view of our own immutable array; parameters copied from the app's.
+            unsafe {
+                gl.GenTextures(1, &mut view);
+                gl.TextureView(view, TEXTURE_2D, array, format, 0, levels as u32, layer, 1);
+                for p in SAMPLER_PARAMS {
+                    let mut v = 0;
+                    gl.GetTextureParameteriv(app, p, &mut v);
+                    gl.TextureParameteri(view, p, v);
+                }
+            }
+            view
+        })
+        .collect()
+}
+
+fn shadow_attachment(
+    gl: &Gl,
+    point: GLenum,
+    name: u32,
+    renderbuffer: bool,
+    n: u32,
+) -> Result<(ShadowAttachment, (i32, i32)), String> {
+    let (format, w, h, samples, levels) = describe(gl, name, renderbuffer)?;
+    let mut array = 0;
+    let (src_target, multisample) = match (renderbuffer, samples > 0) {
+        (true, ms) => (RENDERBUFFER, ms),
+        (false, true) => (TEXTURE_2D_MULTISAMPLE, true),
+        (false, false) => (TEXTURE_2D, false),
+    };
+    // SAFETY: creating our own immutable array and filling every layer with the app's current
+    // content (so a shadow made mid-frame starts from what the app already drew).
+    unsafe {
+        if multisample {
+            gl.CreateTextures(TEXTURE_2D_MULTISAMPLE_ARRAY, 1, &mut array);
+            gl.TextureStorage3DMultisample(array, samples, format, w, h, n as i32, TRUE);
+        } else {
+            gl.CreateTextures(TEXTURE_2D_ARRAY, 1, &mut array);
+            gl.TextureStorage3D(array, levels, format, w, h, n as i32);
+        }
+        for layer in 0..n as i32 {
+            gl.CopyImageSubData(
+                name,
+                src_target,
+                0,
+                0,
+                0,
+                0,
+                array,
+                if multisample {
+                    TEXTURE_2D_MULTISAMPLE_ARRAY
+                } else {
+                    TEXTURE_2D_ARRAY
+                },
+                0,
+                0,
+                0,
+                layer,
+                w,
+                h,
+                1,
+            );
+        }
+    }
+    let views = if renderbuffer || multisample {
+        Vec::new()
+    } else {
+        layer_views(gl, name, array, format, levels, n)
+    };
+    Ok((
+        ShadowAttachment {
+            point,
+            app_name: name,
+            renderbuffer,
+            array,
+            layer_views: views,
+        },
+        (w, h),
+    ))
+}
+
+/// The app framebuffer's draw buffers and read buffer, to give every view framebuffer the
+/// same. They are only queryable on the bound framebuffer, so it is bound briefly.
+fn buffers(gl: &Gl, info: GlInfo, fbo: u32) -> (Vec<GLenum>, GLenum) {
+    let _guard = crate::gl::guard::StateGuard::new(gl, info).framebuffers();
+    // SAFETY: binding the app's own framebuffer for the queries; the guard restores bindings.
+    unsafe {
+        gl.BindFramebuffer(DRAW_FRAMEBUFFER, fbo);
+        gl.BindFramebuffer(READ_FRAMEBUFFER, fbo);
+    }
+    let draw = (0..8)
+        .map(|i| crate::gl::guard::get_i(gl, DRAW_BUFFER0 + i) as GLenum)
+        .collect();
+    (draw, crate::gl::guard::get_i(gl, READ_BUFFER) as GLenum)
+}
+
+impl ShadowFbo {
+    pub fn create(gl: &Gl, info: GlInfo, fbo: u32, n: u32) -> Result<ShadowFbo, String> {
+        let mut shadow = ShadowFbo {
+            views: Vec::new(),
+            attachments: Vec::new(),
+            size: (0, 0),
+        };
+        for (point, name, rb) in attachments(gl, fbo)? {
+            match shadow_attachment(gl, point, name, rb, n) {
+                Ok((a, size)) => {
+                    shadow.size = size;
+                    shadow.attachments.push(a);
+                }
+                Err(e) => {
+                    shadow.delete(gl);
+                    return Err(e);
+                }
+            }
+        }
+        if shadow.attachments.is_empty() {
+            return Err(format!("framebuffer {fbo} has no attachments"));
+        }
+        let (buffers, read) = self::buffers(gl, info, fbo);
+        // SAFETY: our own framebuffers, one per view, with layer i of each array attached.
+        unsafe {
+            shadow.views = vec![0; n as usize];
+            gl.CreateFramebuffers(n as i32, shadow.views.as_mut_ptr());
+            for (i, &view) in shadow.views.iter().enumerate() {
+                for a in &shadow.attachments {
+                    gl.NamedFramebufferTextureLayer(view, a.point, a.array, 0, i as i32);
+                }
+                gl.NamedFramebufferDrawBuffers(view, buffers.len() as i32, buffers.as_ptr());
+                gl.NamedFramebufferReadBuffer(view, read as GLenum);
+            }
+            let status = gl.CheckNamedFramebufferStatus(shadow.views[0], DRAW_FRAMEBUFFER);
+            if status != FRAMEBUFFER_COMPLETE {
+                shadow.delete(gl);
+                return Err(format!("shadow of framebuffer {fbo} incomplete ({status:#x})"));
+            }
+        }
+        Ok(shadow)
+    }
+
+    pub fn delete(&self, gl: &Gl) {
+        // SAFETY: deleting only objects this shadow created.
+        unsafe {
+            gl.DeleteFramebuffers(self.views.len() as i32, self.views.as_ptr());
+            for a in &self.attachments {
+                gl.DeleteTextures(a.layer_views.len() as i32, a.layer_views.as_ptr());
+                gl.DeleteTextures(1, &a.array);
+            }
+        }
+    }
+
+    /// Does this shadow stand in for texture `name` (for sampling)?
+    pub fn layer_views_of(&self, name: u32) -> Option<&[u32]> {
+        self.attachments
+            .iter()
+            .find(|a| !a.renderbuffer && a.app_name == name && !a.layer_views.is_empty())
+            .map(|a| a.layer_views.as_slice())
+    }
+
+    pub fn owns(&self, name: u32, renderbuffer: bool) -> bool {
+        self.attachments
+            .iter()
+            .any(|a| a.app_name == name && a.renderbuffer == renderbuffer)
+    }
+
+    pub fn has_color(&self) -> bool {
+        self.attachments.iter().any(|a| {
+            a.point != DEPTH_ATTACHMENT && a.point != STENCIL_ATTACHMENT && a.point != DEPTH_STENCIL_ATTACHMENT
+        })
+    }
+
+    /// Mipmaps of every layer, when the app regenerates its texture's.
+    pub fn generate_mipmaps(&self, gl: &Gl, name: u32) {
+        for a in self
+            .attachments
+            .iter()
+            .filter(|a| a.app_name == name && !a.renderbuffer)
+        {
+            // SAFETY: our own array texture.
+            unsafe { gl.GenerateTextureMipmap(a.array) };
+        }
+    }
+}
+
+/// Colour attachments of framebuffer `fbo` exist (a depth-only target is a shadow map: drawn
+/// from a light, the same for every view).
+pub fn has_color_attachment(gl: &Gl, fbo: u32) -> bool {
+    POINTS[..8]
+        .iter()
+        .any(|&p| attachment_iv(gl, fbo, p, FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE) as GLenum != NONE)
+}
