@@ -79,6 +79,12 @@ fn injected(dir: &Path, spec: &str, backend: &str, layer: &[&str]) -> std::proce
     args.extend(extra);
     let out = run(&launcher(), &args, &[]);
     assert_success(&out, "run under the layer");
+    // The apps check glGetError after their first frame: the layer must not add errors.
+    assert!(
+        !stderr(&out).contains("GL error"),
+        "GL error under the layer:\n{}",
+        stderr(&out)
+    );
     assert!(
         stderr(&out).contains("holoinject 0.1.0 active"),
         "layer not loaded:\n{}",
@@ -220,6 +226,26 @@ sample_app_tests! {
     gles3_egl_x11: "gles", "egl-x11";
     gles2_egl: "gles --es2", "egl";
     gles2_egl_x11: "gles --es2", "egl-x11";
+    framebuffers_glx: "framebuffers", "glx";
+    framebuffers_egl: "framebuffers", "egl";
+    framebuffers_osmesa: "framebuffers", "osmesa";
+    shadowmap_glx: "shadowmap", "glx";
+    shadowmap_egl: "shadowmap", "egl";
+    shadowmap_osmesa: "shadowmap", "osmesa";
+    deferred_glx: "deferred", "glx";
+    deferred_egl: "deferred", "egl";
+    deferred_osmesa: "deferred", "osmesa";
+    ssao_glx: "ssao", "glx";
+    ssao_egl: "ssao", "egl";
+    ssao_osmesa: "ssao", "osmesa";
+    bloom_glx: "bloom", "glx";
+    bloom_egl: "bloom", "egl";
+    bloom_osmesa: "bloom", "osmesa";
+    msaa_glx: "msaa", "glx";
+    msaa_egl: "msaa", "egl";
+    msaa_osmesa: "msaa", "osmesa";
+    msaa_blit_to_default_egl: "msaa --blit-to-default", "egl";
+    msaa_blit_to_default_osmesa: "msaa --blit-to-default", "osmesa";
 }
 
 #[test]
