@@ -9,6 +9,8 @@ use crate::gl::*;
 pub struct TextureUnits {
     pub active: u32,
     pub bound_2d: Vec<u32>,
+    /// The target each texture name was first bound to (created with).
+    pub targets: std::collections::HashMap<u32, GLenum>,
 }
 
 impl TextureUnits {
@@ -95,7 +97,8 @@ pub fn ensure_shadow(gl: &Gl, mv: &mut Multiview, fbo: u32, why: &str) -> Option
         return None;
     }
     let n = mv.rig.views;
-    match ShadowFbo::create(gl, mv.info, fbo, n) {
+    let targets = &mv.units.targets;
+    match ShadowFbo::create(gl, mv.info, fbo, n, |t| targets.get(&t).copied().unwrap_or(0)) {
         Ok(s) => {
             crate::log::info(format_args!(
                 "framebuffer {fbo} shadowed with {n} layers ({}x{}): {why}",

@@ -61,13 +61,15 @@ fn last_position_stage(gl: &Gl, shaders: &[u32]) -> Option<(u32, Stage)> {
 
 /// Links `program` (through `link`, the real glLinkProgram) with the view shift injected.
 pub fn link_program(gl: &Gl, group: &ShareGroup, program: u32, link: impl Fn()) {
-    let Some((shader, stage)) = last_position_stage(gl, &attached_shaders(gl, program)) else {
+    let shaders = attached_shaders(gl, program);
+    let Some((shader, stage)) = last_position_stage(gl, &shaders) else {
         return link();
     };
     let known = group.lock().original_sources.get(&shader).cloned();
     let original = known.clone().unwrap_or_else(|| source_of(gl, shader));
     let analysis = shader::analyse(&original, stage);
     let rewritten = known.is_some() || try_rewrite(gl, group, shader, &original, &analysis, program);
+    let fragment = fragment_shader(gl, &shaders).and_then(|fs| rewrite_fragcoord(gl, group, fs, program));
     link();
     let linked = {
         let mut ok = 0;
@@ -75,18 +77,48 @@ pub fn link_program(gl: &Gl, group: &ShareGroup, program: u32, link: impl Fn()) 
         unsafe { gl.GetProgramiv(program, LINK_STATUS, &mut ok) };
         ok != 0
     };
-    if rewritten && !linked {
+    if (rewritten || fragment.is_some()) && !linked {
         crate::log::warn(format_args!(
-            "program {program}: link failed with the view shift; linking the app's original"
+            "program {program}: link failed with our edits; linking the app's original"
         ));
+        for s in [Some(shader).filter(|_| rewritten), fragment].into_iter().flatten() {
+            if let Some(src) = group.lock().original_sources.remove(&s) {
+                compile(gl, s, &src);
+            }
+        }
         compile(gl, shader, &original);
-        group.lock().original_sources.remove(&shader);
         link();
         return;
     }
     if linked {
         record(gl, group, program, &analysis, rewritten);
     }
+}
+
+fn fragment_shader(gl: &Gl, shaders: &[u32]) -> Option<u32> {
+    shaders
+        .iter()
+        .copied()
+        .find(|&s| Stage::from_gl(shader_iv(gl, s, SHADER_TYPE) as u32) == Some(Stage::Fragment))
+}
+
+/// The fragment shader with `gl_FragCoord` mapped back to window coordinates (see
+/// `shader::fragcoord`); `Some(shader)` when it now carries our edit.
+fn rewrite_fragcoord(gl: &Gl, group: &ShareGroup, fs: u32, program: u32) -> Option<u32> {
+    if group.lock().original_sources.contains_key(&fs) {
+        return Some(fs);
+    }
+    let original = source_of(gl, fs);
+    let new = shader::fragcoord::rewrite(&original).ok()?;
+    if !compile(gl, fs, &new) {
+        crate::log::warn(format_args!(
+            "program {program}: fragment shader {fs} with gl_FragCoord mapping does not compile; using the original"
+        ));
+        compile(gl, fs, &original);
+        return None;
+    }
+    group.lock().original_sources.insert(fs, original);
+    Some(fs)
 }
 
 fn try_rewrite(
@@ -144,6 +176,11 @@ fn record(gl: &Gl, group: &ShareGroup, program: u32, analysis: &shader::Analysis
     let projection_ubo = leftmost
         .filter(|n| projection_loc.is_none() && !n.starts_with("gl_"))
         .and_then(|n| super::ubo::find(gl, program, n));
+    let fragcoord_loc = uniform_location(gl, program, shader::fragcoord::FRAGCOORD_UNIFORM);
+    if fragcoord_loc >= 0 {
+        // SAFETY: our own uniform in the just-linked program: window coordinates unchanged.
+        unsafe { gl.ProgramUniform4f(program, fragcoord_loc, 0.0, 0.0, 1.0, 1.0) };
+    }
     crate::log::debug(format_args!(
         "program {program}: {:?}, view uniform at {view_loc}, matrices {:?}",
         analysis.position_kind, analysis.matrix_uniforms
@@ -156,6 +193,7 @@ fn record(gl: &Gl, group: &ShareGroup, program: u32, analysis: &shader::Analysis
             builtin,
             projection_ubo,
             analysis.position_kind == shader::PositionKind::Identity,
+            fragcoord_loc,
         ),
     );
 }

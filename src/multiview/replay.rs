@@ -189,7 +189,18 @@ pub fn draw_views(gl: &Gl, mv: &mut Multiview, group: &ShareGroup, f: impl Fn(u3
         }
     };
     if mv.app.draw_fbo == 0 {
-        draw_tiles(gl, mv, layout, |mv, i| set_view(mv, i), &f);
+        let fragcoord = fragcoord_loc(mv, group);
+        draw_tiles(
+            gl,
+            mv,
+            layout,
+            |mv, i| {
+                set_view(mv, i);
+                set_fragcoord(gl, mv, fragcoord, Some((layout, i)));
+            },
+            &f,
+        );
+        set_fragcoord(gl, mv, fragcoord, None);
     } else if let Some(views) = layers::target_views(gl, mv, mv.app.draw_fbo, shift.camera(), &subs) {
         for (i, &fbo) in views.iter().enumerate() {
             // SAFETY: our view framebuffer in place of the app's; rebound below.
@@ -212,6 +223,32 @@ pub fn draw_views(gl: &Gl, mv: &mut Multiview, group: &ShareGroup, f: impl Fn(u3
         load_projection(gl, &p, app_matrix_mode);
     }
     finish_shift(mv, &shift, group);
+}
+
+fn fragcoord_loc(mv: &Multiview, group: &ShareGroup) -> i32 {
+    if mv.program == 0 {
+        return -1;
+    }
+    group.lock().programs.get(&mv.program).map_or(-1, |p| p.fragcoord_loc)
+}
+
+/// `holoinject_fragcoord` of the current program: view i's tile origin and the window/tile
+/// scale, or (0, 0, 1, 1) outside tiles.
+fn set_fragcoord(gl: &Gl, mv: &Multiview, loc: i32, tile: Option<(QuiltLayout, u32)>) {
+    if loc < 0 {
+        return;
+    }
+    let v = tile.map_or([0.0, 0.0, 1.0, 1.0], |(l, i)| {
+        let (ox, oy) = l.origin(i);
+        [
+            ox as f32,
+            oy as f32,
+            l.window_w as f32 / l.tile_w as f32,
+            l.window_h as f32 / l.tile_h as f32,
+        ]
+    });
+    // SAFETY: our own uniform in the current program.
+    unsafe { gl.ProgramUniform4f(mv.program, loc, v[0], v[1], v[2], v[3]) };
 }
 
 /// The tile loop: viewport and scissor mapped into each view's tile.
@@ -275,6 +312,7 @@ pub fn program_info(
     builtin_projection: bool,
     projection_ubo: Option<super::ubo::UboMember>,
     identity: bool,
+    fragcoord_loc: i32,
 ) -> ProgramInfo {
     ProgramInfo {
         view_loc,
@@ -282,6 +320,7 @@ pub fn program_info(
         projection_ubo,
         ubo_cache: None,
         identity,
+        fragcoord_loc,
         builtin_projection,
         centre_set: false,
     }

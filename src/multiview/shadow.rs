@@ -82,7 +82,7 @@ fn attachments(gl: &Gl, fbo: u32) -> Result<Vec<(GLenum, u32, bool)>, String> {
 
 /// (internal format, width, height, samples, levels) of an attachment; only 2D textures
 /// (single- or multi-sample) and renderbuffers are shadowed.
-fn describe(gl: &Gl, name: u32, renderbuffer: bool) -> Result<(GLenum, i32, i32, i32, i32), String> {
+fn describe(gl: &Gl, name: u32, renderbuffer: bool, target: GLenum) -> Result<(GLenum, i32, i32, i32, i32), String> {
     let mut v = [0i32; 4];
     // SAFETY: single-integer queries on the app's object names.
     unsafe {
@@ -100,9 +100,9 @@ fn describe(gl: &Gl, name: u32, renderbuffer: bool) -> Result<(GLenum, i32, i32,
             }
             return Ok((v[0] as GLenum, v[1], v[2], v[3], 1));
         }
-        let mut target = 0;
-        gl.GetTextureParameteriv(name, TEXTURE_TARGET, &mut target);
-        if target as GLenum != TEXTURE_2D && target as GLenum != TEXTURE_2D_MULTISAMPLE {
+        // GL_TEXTURE_TARGET is not queryable on every driver (Mesa 22.3 raises an error), so
+        // the target comes from the app's own binds, tracked by the layer.
+        if target != TEXTURE_2D && target != TEXTURE_2D_MULTISAMPLE {
             return Err(format!("texture {name}: target {target:#x} is not shadowed (2D only)"));
         }
         for (i, p) in [TEXTURE_INTERNAL_FORMAT, TEXTURE_WIDTH, TEXTURE_HEIGHT, TEXTURE_SAMPLES]
@@ -122,6 +122,34 @@ fn describe(gl: &Gl, name: u32, renderbuffer: bool) -> Result<(GLenum, i32, i32,
         }
         Ok((v[0] as GLenum, v[1], v[2], v[3], levels))
     }
+}
+
+/// Immutable storage needs a sized format; `glTexImage2D` keeps the unsized one it was given.
+fn sized(format: GLenum) -> Result<GLenum, String> {
+    Ok(match format {
+        RGBA => RGBA8,
+        RGB => RGB8,
+        RG => RG8,
+        RED => R8,
+        DEPTH_COMPONENT => DEPTH_COMPONENT24,
+        DEPTH_STENCIL => DEPTH24_STENCIL8,
+        ALPHA | LUMINANCE | LUMINANCE_ALPHA | INTENSITY => {
+            return Err(format!("format {format:#x} has no sized equivalent"));
+        }
+        sized => sized,
+    })
+}
+
+/// `glCopyImageSubData` refuses incomplete textures (a single level with a mipmapping
+/// filter, the GL default): their first frame's layers then start empty.
+fn copyable(gl: &Gl, name: u32, renderbuffer: bool, levels: i32) -> bool {
+    if renderbuffer || levels > 1 {
+        return true;
+    }
+    let mut filter = 0;
+    // SAFETY: a single-integer texture parameter query.
+    unsafe { gl.GetTextureParameteriv(name, TEXTURE_MIN_FILTER, &mut filter) };
+    filter as GLenum == NEAREST || filter as GLenum == LINEAR
 }
 
 const SAMPLER_PARAMS: [GLenum; 6] = [
@@ -158,9 +186,14 @@ fn shadow_attachment(
     point: GLenum,
     name: u32,
     renderbuffer: bool,
+    target: GLenum,
     n: u32,
 ) -> Result<(ShadowAttachment, (i32, i32)), String> {
-    let (format, w, h, samples, levels) = describe(gl, name, renderbuffer)?;
+    let (format, w, h, samples, levels) = describe(gl, name, renderbuffer, target)?;
+    let unsized_format = format;
+    let format = sized(format)?;
+    // Image copies also need identical formats: an unsized source starts empty too.
+    let copy = unsized_format == format && copyable(gl, name, renderbuffer, levels);
     let mut array = 0;
     let (src_target, multisample) = match (renderbuffer, samples > 0) {
         (true, ms) => (RENDERBUFFER, ms),
@@ -177,7 +210,7 @@ fn shadow_attachment(
             gl.CreateTextures(TEXTURE_2D_ARRAY, 1, &mut array);
             gl.TextureStorage3D(array, levels, format, w, h, n as i32);
         }
-        for layer in 0..n as i32 {
+        for layer in (0..n as i32).filter(|_| copy) {
             gl.CopyImageSubData(
                 name,
                 src_target,
@@ -234,14 +267,22 @@ fn buffers(gl: &Gl, info: GlInfo, fbo: u32) -> (Vec<GLenum>, GLenum) {
 }
 
 impl ShadowFbo {
-    pub fn create(gl: &Gl, info: GlInfo, fbo: u32, n: u32) -> Result<ShadowFbo, String> {
+    /// `target_of`: the texture target the app bound each texture name to (0 if unknown).
+    pub fn create(
+        gl: &Gl,
+        info: GlInfo,
+        fbo: u32,
+        n: u32,
+        target_of: impl Fn(u32) -> GLenum,
+    ) -> Result<ShadowFbo, String> {
         let mut shadow = ShadowFbo {
             views: Vec::new(),
             attachments: Vec::new(),
             size: (0, 0),
         };
         for (point, name, rb) in attachments(gl, fbo)? {
-            match shadow_attachment(gl, point, name, rb, n) {
+            let target = if rb { RENDERBUFFER } else { target_of(name) };
+            match shadow_attachment(gl, point, name, rb, target, n) {
                 Ok((a, size)) => {
                     shadow.size = size;
                     shadow.attachments.push(a);

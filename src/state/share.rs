@@ -19,6 +19,8 @@ pub struct ProgramInfo {
     pub ubo_cache: Option<(u64, [f32; 16])>,
     /// gl_Position comes from the compatibility built-ins (`ftransform`, `gl_ModelView…`).
     pub builtin_projection: bool,
+    /// Location of `holoinject_fragcoord` in the fragment shader, or -1.
+    pub fragcoord_loc: i32,
     /// gl_Position is given directly (full-screen passes, NDC quads): not the main camera.
     pub identity: bool,
     /// The view uniform holds the centre view's values (so single draws need no update).

@@ -13,10 +13,29 @@ pub fn glActiveTexture(real: impl Fn(GLenum), texture: GLenum) {
 }
 
 pub fn glBindTexture(real: impl Fn(GLenum, GLuint), target: GLenum, texture: GLuint) {
-    if target == crate::gl::TEXTURE_2D {
-        with_active(|_, mv, _| mv.units.bind(mv.units.active, texture));
-    }
+    with_active(|_, mv, _| {
+        if texture != 0 {
+            mv.units.targets.entry(texture).or_insert(target);
+        }
+        if target == crate::gl::TEXTURE_2D {
+            mv.units.bind(mv.units.active, texture);
+        }
+    });
     real(target, texture)
+}
+
+pub fn glCreateTextures(
+    real: impl Fn(GLenum, GLsizei, *mut GLuint),
+    target: GLenum,
+    n: GLsizei,
+    textures: *mut GLuint,
+) {
+    real(target, n, textures);
+    with_active(|_, mv, _| {
+        names(n, textures)
+            .iter()
+            .for_each(|&t| _ = mv.units.targets.insert(t, target))
+    });
 }
 
 pub fn glBindTextureUnit(real: impl Fn(GLuint, GLuint), unit: GLuint, texture: GLuint) {
