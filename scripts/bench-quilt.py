@@ -35,8 +35,11 @@ def app(size, frames):
     return [os.path.join(BIN, APP), "--backend", BACKEND, "--size", size, "--frames", str(frames)]
 
 
+LAYER_ARGS = []
+
+
 def injected(quilt, tile, size, frames):
-    layer = [os.path.join(BIN, "holoinject"), "run", "--quilt", quilt, "--tile", tile, *RIG, "--"]
+    layer = [os.path.join(BIN, "holoinject"), "run", "--quilt", quilt, "--tile", tile, *RIG, *LAYER_ARGS, "--"]
     return layer + app(size, frames) + ["--timing"]
 
 
@@ -59,16 +62,19 @@ def main():
     ap.add_argument("--out", default=os.path.join(ROOT, "scripts", "results"))
     ap.add_argument("--app", default="cubes", help="sample app to measure (default cubes)")
     ap.add_argument("--backend", default="osmesa", help="osmesa (default: its glFinish frame boundary waits for rendering) or egl")
+    ap.add_argument("--layer-arg", action="append", default=[], help="extra holoinject option (repeatable)")
     ap.add_argument("--cost-only", action="store_true", help="only the 8x6 420x560 injection cost")
     a = ap.parse_args()
-    global APP, BACKEND
+    global APP, BACKEND  # noqa: PLW0603
     APP, BACKEND = a.app, a.backend
+    LAYER_ARGS.extend(a.layer_arg)
     subprocess.run(["cargo", "build", "--workspace", "--release", "--locked", "-q"], cwd=ROOT, check=True)
     os.makedirs(a.out, exist_ok=True)
     rows = []
     if a.cost_only:
         inj, ref = measure("8x6", "420x560", "420x560", a.frames, a.rounds)
-        print(f"{APP} 8x6 420x560: injected {inj:.2f} ms, reference {ref:.2f} ms, injection cost {inj / ref:.3f}")
+        extra = " ".join(LAYER_ARGS)
+        print(f"{APP} 8x6 420x560 {extra}: injected {inj:.2f} ms, reference {ref:.2f} ms, injection cost {inj / ref:.3f}")
         return
     for quilt in ["1x1", "3x3", "6x4", "8x6"]:
         inj, ref = measure(quilt, "420x560", "420x560", a.frames, a.rounds)

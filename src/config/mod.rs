@@ -35,6 +35,17 @@ pub enum Output {
     Mono,
 }
 
+/// Which of the app's framebuffers get layered shadows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FboViews {
+    /// Those a view-dependent pass draws into (main camera, or sampling a layered texture).
+    Auto,
+    /// Every one drawn into (e.g. to measure what drawing shadow maps once saves).
+    All,
+    /// None: off-screen passes show the centre view.
+    None,
+}
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Convergence {
     Auto,
@@ -50,6 +61,7 @@ pub struct ViewSettings {
     pub tile: Option<(u32, u32)>,
     pub device: Option<device::Device>,
     pub weave_filter: crate::output::weave::Filter,
+    pub fbo_views: FboViews,
     pub depthiness: Option<f64>,
     /// Angle (degrees) between the outermost cameras as seen from the convergence plane.
     pub view_cone: Option<f64>,
@@ -80,6 +92,7 @@ impl Default for ViewSettings {
             tile: None,
             device: None,
             weave_filter: crate::output::weave::Filter::BlendNext,
+            fbo_views: FboViews::Auto,
             depthiness: None,
             view_cone: None,
             convergence: Convergence::Auto,
@@ -139,6 +152,7 @@ impl Settings {
                 "device" => s.view.device = device::load(&value).ok(),
                 "weave-filter" => s.view.weave_filter = parse::weave_filter(&value).unwrap_or(s.view.weave_filter),
                 "depthiness" => s.view.depthiness = parse::finite(&value).ok(),
+                "fbo-views" => s.view.fbo_views = parse::fbo_views(&value).unwrap_or(FboViews::Auto),
                 "view-cone" => s.view.view_cone = parse::view_cone(&value).ok(),
                 "convergence" => s.view.convergence = parse::convergence(&value).unwrap_or(Convergence::Auto),
                 "focus" => s.view.focus = parse::finite(&value).unwrap_or(0.0),

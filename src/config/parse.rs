@@ -1,6 +1,6 @@
 //! Value syntax shared by the launcher (flags) and the layer (environment).
 
-use super::{Boundary, Convergence, FrameSet, Output};
+use super::{Boundary, Convergence, FboViews, FrameSet, Output};
 
 pub fn grid(v: &str) -> Result<(u32, u32), String> {
     let (a, b) = v
@@ -51,6 +51,15 @@ pub fn weave_filter(v: &str) -> Result<crate::output::weave::Filter, String> {
                 "`{v}`: expected nearest|blend|gaussian:SIGMA (SIGMA in views, 0 < SIGMA <= 8)"
             )),
         },
+    }
+}
+
+pub fn fbo_views(v: &str) -> Result<FboViews, String> {
+    match v.trim() {
+        "auto" => Ok(FboViews::Auto),
+        "all" => Ok(FboViews::All),
+        "none" => Ok(FboViews::None),
+        _ => Err(format!("`{v}`: expected auto|all|none")),
     }
 }
 

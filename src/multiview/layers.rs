@@ -59,6 +59,12 @@ pub fn bind_layers(gl: &Gl, mv: &Multiview, subs: &Substitutions, i: Option<usiz
 
 /// Why a draw into the app's framebuffer `fbo` is view-dependent, if it is.
 pub fn dependence(gl: &Gl, mv: &Multiview, fbo: u32, camera_draw: bool, subs: &Substitutions) -> Option<&'static str> {
+    use crate::config::FboViews;
+    match mv.settings.fbo_views {
+        FboViews::None => return None,
+        FboViews::All => return Some("--fbo-views all"),
+        FboViews::Auto => {}
+    }
     if !subs.is_empty() {
         Some("it samples a view-dependent texture")
     } else if camera_draw && shadow::has_color_attachment(gl, fbo) {
@@ -84,7 +90,14 @@ pub fn target_views(
     if mv.unshadowable.contains(&fbo) || !shadow::supported(gl, mv.info) {
         return None;
     }
-    let why = dependence(gl, mv, fbo, camera_draw, subs)?;
+    let Some(why) = dependence(gl, mv, fbo, camera_draw, subs) else {
+        if mv.drawn_once.insert(fbo) {
+            crate::log::info(format_args!(
+                "framebuffer {fbo}: pass drawn once for all views (not view-dependent)"
+            ));
+        }
+        return None;
+    };
     ensure_shadow(gl, mv, fbo, why)
 }
 
@@ -93,7 +106,10 @@ pub fn ensure_shadow(gl: &Gl, mv: &mut Multiview, fbo: u32, why: &str) -> Option
     if let Some(s) = mv.shadows.get(&fbo) {
         return Some(s.views.clone());
     }
-    if mv.unshadowable.contains(&fbo) || !shadow::supported(gl, mv.info) {
+    if mv.unshadowable.contains(&fbo)
+        || !shadow::supported(gl, mv.info)
+        || mv.settings.fbo_views == crate::config::FboViews::None
+    {
         return None;
     }
     let n = mv.rig.views;

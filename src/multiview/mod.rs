@@ -70,6 +70,8 @@ pub struct Multiview {
     /// Layered shadows of the app's framebuffers, by app name; those that cannot be.
     pub shadows: std::collections::HashMap<u32, shadow::ShadowFbo>,
     pub unshadowable: std::collections::HashSet<u32>,
+    /// Framebuffers already logged as drawn once (not view-dependent).
+    pub drawn_once: std::collections::HashSet<u32>,
     pub units: layers::TextureUnits,
     /// Our full-screen passes and the native-resolution weave target.
     pub passes: crate::output::pass::Passes,
@@ -119,6 +121,7 @@ impl Multiview {
             selecting: false,
             shadows: Default::default(),
             unshadowable: Default::default(),
+            drawn_once: Default::default(),
             units: Default::default(),
             passes: Default::default(),
             native: None,

@@ -140,6 +140,13 @@ fn sized(format: GLenum) -> Result<GLenum, String> {
     })
 }
 
+fn mipmapped(gl: &Gl, name: u32) -> bool {
+    let mut filter = 0;
+    // SAFETY: a single-integer texture parameter query.
+    unsafe { gl.GetTextureParameteriv(name, TEXTURE_MIN_FILTER, &mut filter) };
+    !matches!(filter as GLenum, NEAREST | LINEAR)
+}
+
 /// `glCopyImageSubData` refuses incomplete textures (a single level with a mipmapping
 /// filter, the GL default): their first frame's layers then start empty.
 fn copyable(gl: &Gl, name: u32, renderbuffer: bool, levels: i32) -> bool {
@@ -190,6 +197,13 @@ fn shadow_attachment(
     n: u32,
 ) -> Result<(ShadowAttachment, (i32, i32)), String> {
     let (format, w, h, samples, levels) = describe(gl, name, renderbuffer, target)?;
+    // A mipmapping filter on a single level means glGenerateMipmap comes later: the layers
+    // get the full chain now (immutable storage cannot grow).
+    let levels = if renderbuffer || samples > 0 || !mipmapped(gl, name) {
+        levels
+    } else {
+        levels.max(32 - (w.max(h).max(1) as u32).leading_zeros() as i32)
+    };
     let unsized_format = format;
     let format = sized(format)?;
     // Image copies also need identical formats: an unsized source starts empty too.
