@@ -96,6 +96,12 @@ fn assert_replay_identical(test: &str, api: &str, retrace: &str, program: &[&str
 /// just in front of the camera so the whole scene is behind it and moves one way (with the
 /// default auto-convergence a single-object scene sits on the plane and barely moves).
 fn assert_replay_quilt(test: &str, api: &str, retrace: &str, program: &[&str], seconds: &str, frame: u32) {
+    replay_quilt(test, api, retrace, program, seconds, frame, true)
+}
+
+/// `assert_replay_quilt`; `parallax: false` for scenes drawn flat (2D compositing), where only
+/// the centre view is checked.
+fn replay_quilt(test: &str, api: &str, retrace: &str, program: &[&str], seconds: &str, frame: u32, parallax: bool) {
     let dir = temp_dir(test);
     let trace = record(&dir, test, api, program, seconds);
     let plain = read_png(&plain_snapshot(&dir, retrace, &trace, frame));
@@ -136,6 +142,9 @@ fn assert_replay_quilt(test: &str, api: &str, retrace: &str, program: &[&str], s
         differing <= limit,
         "{test}: centre tile differs from the plain frame in {differing} pixels (limit {limit})"
     );
+    if !parallax {
+        return;
+    }
     let shifts: Vec<i32> = [3, 4]
         .iter()
         .map(|&i| horizontal_shift(&centre, &tile(&quilt, 5, 1, i), 30).abs())
@@ -160,6 +169,20 @@ macro_rules! glmark2_quilt_tests {
             assert_replay_quilt(stringify!($name), "gl", "glretrace", &prog, "20", 12);
         }
     )*};
+}
+
+/// glmark2 scenes that render through their own framebuffers: `shadow` (a depth-only shadow
+/// map drawn once, then the lit scene) and `desktop` (2D windows composited through FBOs).
+#[test]
+fn glmark2_shadow_fbo_quilt() {
+    let prog = ["glmark2", "-s", "400x300", "-b", "shadow:duration=0.5"];
+    assert_replay_quilt("glmark2_shadow_fbo_quilt", "gl", "glretrace", &prog, "20", 8);
+}
+
+#[test]
+fn glmark2_desktop_fbo_quilt_centre() {
+    let prog = ["glmark2", "-s", "400x300", "-b", "desktop:duration=0.5"];
+    replay_quilt("glmark2_desktop_fbo_quilt", "gl", "glretrace", &prog, "20", 8, false);
 }
 
 glmark2_quilt_tests! {
