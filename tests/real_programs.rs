@@ -179,6 +179,14 @@ fn glmark2_shadow_fbo_quilt() {
     assert_replay_quilt("glmark2_shadow_fbo_quilt", "gl", "glretrace", &prog, "20", 8);
 }
 
+/// `terrain`: noise and height maps through a chain of FBOs with mipmaps
+/// (`glGenerateMipmapEXT`), a depth-of-field blur, then the screen.
+#[test]
+fn glmark2_terrain_fbo_quilt() {
+    let prog = ["glmark2", "-s", "400x300", "-b", "terrain:duration=3"];
+    assert_replay_quilt("glmark2_terrain_fbo_quilt", "gl", "glretrace", &prog, "60", 6);
+}
+
 #[test]
 fn glmark2_desktop_fbo_quilt_centre() {
     let prog = ["glmark2", "-s", "400x300", "-b", "desktop:duration=0.5"];

@@ -147,18 +147,6 @@ fn mipmapped(gl: &Gl, name: u32) -> bool {
     !matches!(filter as GLenum, NEAREST | LINEAR)
 }
 
-/// `glCopyImageSubData` refuses incomplete textures (a single level with a mipmapping
-/// filter, the GL default): their first frame's layers then start empty.
-fn copyable(gl: &Gl, name: u32, renderbuffer: bool, levels: i32) -> bool {
-    if renderbuffer || levels > 1 {
-        return true;
-    }
-    let mut filter = 0;
-    // SAFETY: a single-integer texture parameter query.
-    unsafe { gl.GetTextureParameteriv(name, TEXTURE_MIN_FILTER, &mut filter) };
-    filter as GLenum == NEAREST || filter as GLenum == LINEAR
-}
-
 const SAMPLER_PARAMS: [GLenum; 6] = [
     TEXTURE_MIN_FILTER,
     TEXTURE_MAG_FILTER,
@@ -204,18 +192,11 @@ fn shadow_attachment(
     } else {
         levels.max(32 - (w.max(h).max(1) as u32).leading_zeros() as i32)
     };
-    let unsized_format = format;
     let format = sized(format)?;
-    // Image copies also need identical formats: an unsized source starts empty too.
-    let copy = unsized_format == format && copyable(gl, name, renderbuffer, levels);
     let mut array = 0;
-    let (src_target, multisample) = match (renderbuffer, samples > 0) {
-        (true, ms) => (RENDERBUFFER, ms),
-        (false, true) => (TEXTURE_2D_MULTISAMPLE, true),
-        (false, false) => (TEXTURE_2D, false),
-    };
-    // SAFETY: creating our own immutable array and filling every layer with the app's current
-    // content (so a shadow made mid-frame starts from what the app already drew).
+    let multisample = samples > 0;
+    // SAFETY: creating our own immutable array (filled from the app's content once the view
+    // framebuffers exist, see `fill_from_app`).
     unsafe {
         if multisample {
             gl.CreateTextures(TEXTURE_2D_MULTISAMPLE_ARRAY, 1, &mut array);
@@ -223,29 +204,6 @@ fn shadow_attachment(
         } else {
             gl.CreateTextures(TEXTURE_2D_ARRAY, 1, &mut array);
             gl.TextureStorage3D(array, levels, format, w, h, n as i32);
-        }
-        for layer in (0..n as i32).filter(|_| copy) {
-            gl.CopyImageSubData(
-                name,
-                src_target,
-                0,
-                0,
-                0,
-                0,
-                array,
-                if multisample {
-                    TEXTURE_2D_MULTISAMPLE_ARRAY
-                } else {
-                    TEXTURE_2D_ARRAY
-                },
-                0,
-                0,
-                0,
-                layer,
-                w,
-                h,
-                1,
-            );
         }
     }
     let views = if renderbuffer || multisample {
@@ -328,7 +286,50 @@ impl ShadowFbo {
                 return Err(format!("shadow of framebuffer {fbo} incomplete ({status:#x})"));
             }
         }
+        shadow.fill_from_app(gl, fbo, &buffers, read as GLenum);
         Ok(shadow)
+    }
+
+    /// Every layer starts as a copy of what the app's framebuffer holds now: a shadow made
+    /// mid-frame, or of a target rendered once (a precomputed map), must not start empty.
+    /// Blits work for every attachment kind and completeness state, unlike image copies;
+    /// colour attachments go one at a time through the read/draw buffer selection, which is
+    /// put back afterwards (on the app's framebuffer too).
+    fn fill_from_app(&self, gl: &Gl, fbo: u32, draw_buffers: &[GLenum], read: GLenum) {
+        let (w, h) = self.size;
+        let colors: Vec<GLenum> = self
+            .attachments
+            .iter()
+            .map(|a| a.point)
+            .filter(|p| (COLOR_ATTACHMENT0..=COLOR_ATTACHMENT7).contains(p))
+            .collect();
+        let depth_stencil = self.attachments.iter().fold(0, |bits, a| match a.point {
+            DEPTH_ATTACHMENT => bits | DEPTH_BUFFER_BIT,
+            STENCIL_ATTACHMENT => bits | STENCIL_BUFFER_BIT,
+            DEPTH_STENCIL_ATTACHMENT => bits | DEPTH_BUFFER_BIT | STENCIL_BUFFER_BIT,
+            _ => bits,
+        });
+        let scissored = unsafe { gl.IsEnabled(SCISSOR_TEST) } != 0;
+        // SAFETY: named blits between the app's framebuffer and ours (blits obey the scissor
+        // test, so it is off meanwhile); selections and the scissor test restored.
+        unsafe {
+            gl.Disable(SCISSOR_TEST);
+            for &view in &self.views {
+                for &p in &colors {
+                    gl.NamedFramebufferReadBuffer(fbo, p);
+                    gl.NamedFramebufferDrawBuffer(view, p);
+                    gl.BlitNamedFramebuffer(fbo, view, 0, 0, w, h, 0, 0, w, h, COLOR_BUFFER_BIT, NEAREST);
+                }
+                if depth_stencil != 0 {
+                    gl.BlitNamedFramebuffer(fbo, view, 0, 0, w, h, 0, 0, w, h, depth_stencil, NEAREST);
+                }
+                gl.NamedFramebufferDrawBuffers(view, draw_buffers.len() as i32, draw_buffers.as_ptr());
+            }
+            gl.NamedFramebufferReadBuffer(fbo, read);
+            if scissored {
+                gl.Enable(SCISSOR_TEST);
+            }
+        }
     }
 
     pub fn delete(&self, gl: &Gl) {
@@ -348,6 +349,15 @@ impl ShadowFbo {
             .iter()
             .find(|a| !a.renderbuffer && a.app_name == name && !a.layer_views.is_empty())
             .map(|a| a.layer_views.as_slice())
+    }
+
+    /// What is attached at `point` (depth and stencil both match a depth-stencil attachment).
+    pub fn attached(&self, point: GLenum) -> Option<(u32, bool)> {
+        let depth_or_stencil = point == DEPTH_ATTACHMENT || point == STENCIL_ATTACHMENT;
+        self.attachments
+            .iter()
+            .find(|a| a.point == point || a.point == DEPTH_STENCIL_ATTACHMENT && depth_or_stencil)
+            .map(|a| (a.app_name, a.renderbuffer))
     }
 
     pub fn owns(&self, name: u32, renderbuffer: bool) -> bool {

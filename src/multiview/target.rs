@@ -15,6 +15,31 @@ pub struct QuiltTarget {
     pub layout: QuiltLayout,
 }
 
+/// One size query on the real default framebuffer (bound for draw by the caller's guard).
+fn default_size(gl: &Gl, attachment: GLenum, pname: GLenum) -> i32 {
+    let mut bits = 0;
+    // SAFETY: one integer out.
+    unsafe {
+        gl.BindFramebuffer(DRAW_FRAMEBUFFER, 0);
+        gl.GetFramebufferAttachmentParameteriv(DRAW_FRAMEBUFFER, attachment, pname, &mut bits);
+    }
+    bits
+}
+
+/// Depth/stencil storage like the window's: a 32-bit window depth buffer resolves close
+/// surfaces differently from a 24-bit one, so the quilt must not be coarser.
+fn depth_format(gl: &Gl, info: GlInfo) -> (GLenum, GLenum) {
+    let (depth, stencil) = if info.es { (DEPTH, STENCIL) } else { (DEPTH, STENCIL) };
+    let d = default_size(gl, depth, FRAMEBUFFER_ATTACHMENT_DEPTH_SIZE);
+    let s = default_size(gl, stencil, FRAMEBUFFER_ATTACHMENT_STENCIL_SIZE);
+    match (d, s > 0) {
+        (32, false) => (DEPTH_COMPONENT32, DEPTH_ATTACHMENT),
+        (32, true) => (DEPTH32F_STENCIL8, DEPTH_STENCIL_ATTACHMENT),
+        (16, false) => (DEPTH_COMPONENT16, DEPTH_ATTACHMENT),
+        _ => (DEPTH24_STENCIL8, DEPTH_STENCIL_ATTACHMENT),
+    }
+}
+
 /// Alpha bits of the real default framebuffer's back buffer.
 fn default_has_alpha(gl: &Gl, info: GlInfo) -> bool {
     let mut bits = 8;
@@ -37,6 +62,7 @@ impl QuiltTarget {
     pub fn create(gl: &Gl, info: GlInfo, layout: QuiltLayout) -> Result<QuiltTarget, String> {
         let _guard = StateGuard::new(gl, info).framebuffers().for_pass();
         let alpha = default_has_alpha(gl, info);
+        let (depth_format, depth_point) = depth_format(gl, info);
         let (mut fbo, mut color, mut depth) = (0, 0, 0);
         let (w, h) = (layout.width() as i32, layout.height() as i32);
         // SAFETY: creating and configuring our own objects; bindings are restored by the guard.
@@ -54,11 +80,11 @@ impl QuiltTarget {
             }
             gl.GenRenderbuffers(1, &mut depth);
             gl.BindRenderbuffer(RENDERBUFFER, depth);
-            gl.RenderbufferStorage(RENDERBUFFER, DEPTH24_STENCIL8, w, h);
+            gl.RenderbufferStorage(RENDERBUFFER, depth_format, w, h);
             gl.GenFramebuffers(1, &mut fbo);
             gl.BindFramebuffer(FRAMEBUFFER, fbo);
             gl.FramebufferTexture2D(FRAMEBUFFER, COLOR_ATTACHMENT0, TEXTURE_2D, color, 0);
-            gl.FramebufferRenderbuffer(FRAMEBUFFER, DEPTH_STENCIL_ATTACHMENT, RENDERBUFFER, depth);
+            gl.FramebufferRenderbuffer(FRAMEBUFFER, depth_point, RENDERBUFFER, depth);
             gl.CheckFramebufferStatus(FRAMEBUFFER)
         };
         let target = QuiltTarget {

@@ -141,16 +141,24 @@ pub fn glRenderbufferStorageMultisample(
     storage_changed(true, crate::gl::RENDERBUFFER_BINDING);
 }
 
-/// The app's framebuffer bound to `target` was re-attached: its shadow is rebuilt on demand.
-fn reattached(target: GLenum) {
+/// The app's framebuffer bound to `target` got `name` at `attachment`: its shadow is rebuilt
+/// on demand, unless the same object is attached again (some renderers re-attach every frame;
+/// rebuilding N layers each time would cost far more than the draw).
+fn reattached(target: GLenum, attachment: GLenum, name: u32, renderbuffer: bool) {
     with_active(|_, mv, gl| {
         let fbo = if target == crate::gl::READ_FRAMEBUFFER {
             mv.app.read_fbo
         } else {
             mv.app.draw_fbo
         };
-        mv.unshadowable.remove(&fbo);
-        forget(gl, mv, |f, _| f == fbo);
+        let same = mv
+            .shadows
+            .get(&fbo)
+            .is_some_and(|s| s.attached(attachment) == Some((name, renderbuffer)));
+        if !same {
+            mv.unshadowable.remove(&fbo);
+            forget(gl, mv, |f, _| f == fbo);
+        }
     });
 }
 
@@ -163,7 +171,7 @@ pub fn glFramebufferTexture2D(
     level: GLint,
 ) {
     real(target, att, textarget, tex, level);
-    reattached(target);
+    reattached(target, att, tex, false);
 }
 
 pub fn glFramebufferTexture(
@@ -174,7 +182,7 @@ pub fn glFramebufferTexture(
     level: GLint,
 ) {
     real(target, att, tex, level);
-    reattached(target);
+    reattached(target, att, tex, false);
 }
 
 pub fn glFramebufferRenderbuffer(
@@ -185,7 +193,7 @@ pub fn glFramebufferRenderbuffer(
     rb: GLuint,
 ) {
     real(target, att, rbt, rb);
-    reattached(target);
+    reattached(target, att, rb, true);
 }
 
 fn names<'a>(n: GLsizei, p: *const GLuint) -> &'a [GLuint] {
@@ -224,4 +232,49 @@ pub fn glDeleteRenderbuffers(real: impl Fn(GLsizei, *const GLuint), n: GLsizei, 
         forget(gl, mv, |_, s| gone.iter().any(|&r| s.owns(r, true)));
     });
     real(n, rbs)
+}
+
+// EXT_framebuffer_object spellings: identical semantics.
+
+pub fn glGenerateMipmapEXT(real: impl Fn(GLenum), target: GLenum) {
+    glGenerateMipmap(real, target)
+}
+
+pub fn glFramebufferTexture2DEXT(
+    real: impl Fn(GLenum, GLenum, GLenum, GLuint, GLint),
+    target: GLenum,
+    att: GLenum,
+    textarget: GLenum,
+    tex: GLuint,
+    level: GLint,
+) {
+    glFramebufferTexture2D(real, target, att, textarget, tex, level)
+}
+
+pub fn glFramebufferRenderbufferEXT(
+    real: impl Fn(GLenum, GLenum, GLenum, GLuint),
+    target: GLenum,
+    att: GLenum,
+    rbt: GLenum,
+    rb: GLuint,
+) {
+    glFramebufferRenderbuffer(real, target, att, rbt, rb)
+}
+
+pub fn glRenderbufferStorageEXT(
+    real: impl Fn(GLenum, GLenum, GLsizei, GLsizei),
+    target: GLenum,
+    format: GLenum,
+    w: GLsizei,
+    h: GLsizei,
+) {
+    glRenderbufferStorage(real, target, format, w, h)
+}
+
+pub fn glDeleteFramebuffersEXT(real: impl Fn(GLsizei, *const GLuint), n: GLsizei, fbos: *const GLuint) {
+    glDeleteFramebuffers(real, n, fbos)
+}
+
+pub fn glDeleteRenderbuffersEXT(real: impl Fn(GLsizei, *const GLuint), n: GLsizei, rbs: *const GLuint) {
+    glDeleteRenderbuffers(real, n, rbs)
 }
