@@ -325,3 +325,53 @@ fn legacy_picking_and_bitmap_text_survive_the_quilt() {
         );
     }
 }
+
+/// KHR_debug (synchronous debug output) counts every GL error the context raises while the
+/// apps run under the layer, single- and multi-pass, fixed-function and ES: none may come
+/// from the layer. The self-test run shows the counter does count.
+#[test]
+fn no_gl_errors_reported_through_khr_debug() {
+    let cubes = app("cubes");
+    let args = [
+        "--backend",
+        "egl",
+        "--size",
+        "160x120",
+        "--frames",
+        "3",
+        "--debug-output",
+    ];
+    let out = run(&cubes, &args, &[("HOLOAPPS_DEBUG_SELFTEST", "1")]);
+    assert!(
+        stderr(&out).contains("gl-debug: errors=1"),
+        "debug output does not count errors:\n{}",
+        stderr(&out)
+    );
+    for spec in [
+        "cubes",
+        "legacy",
+        "model",
+        "skybox",
+        "compat120",
+        "framebuffers",
+        "shadowmap",
+        "deferred",
+        "ssao",
+        "bloom",
+        "msaa",
+        "msaa --blit-to-default",
+        "gles",
+    ] {
+        let (path, extra) = split_app(spec);
+        let mut all = vec!["run", "--quilt", "3x3", "--", path.to_str().unwrap()];
+        all.extend(args);
+        all.extend(extra);
+        let out = run(&launcher(), &all, &[]);
+        assert_success(&out, spec);
+        assert!(
+            stderr(&out).contains("gl-debug: errors=0"),
+            "{spec}: GL errors under the layer:\n{}",
+            stderr(&out)
+        );
+    }
+}

@@ -52,6 +52,8 @@ pub struct Options {
     pub bench_quilt: bool,
     /// Print the median frame time at exit.
     pub timing: bool,
+    /// Count GL errors through KHR_debug and print the count at exit.
+    pub debug_output: bool,
 }
 
 impl Options {
@@ -94,7 +96,8 @@ pub fn usage(app: &AppInfo) -> String {
          --focus F              extra horizontal shift (default 0)\n\
          --out PATH             quilt PNG path (required with --reference-quilt)\n\
          --bench-quilt          render the reference quilt every frame (benchmark; implies --timing)\n\
-         --timing               print the median frame time to stderr at exit\n",
+         --timing               print the median frame time to stderr at exit\n\
+         --debug-output         count GL errors via KHR_debug; print `gl-debug: errors=N` at exit\n",
         name = app.name,
         about = app.about,
         conv = app.default_convergence
@@ -129,6 +132,7 @@ pub fn parse(args: &[String], app: &AppInfo) -> Result<Option<Options>, String> 
         switches: HashSet::new(),
         bench_quilt: false,
         timing: false,
+        debug_output: false,
     };
     let mut tile = None;
     let mut it = args.iter();
@@ -136,6 +140,10 @@ pub fn parse(args: &[String], app: &AppInfo) -> Result<Option<Options>, String> 
         if flag == "--help" || flag == "-h" {
             print!("{}", usage(app));
             return Ok(None);
+        }
+        if flag == "--debug-output" {
+            o.debug_output = true;
+            continue;
         }
         if flag == "--bench-quilt" || flag == "--timing" {
             o.bench_quilt |= flag == "--bench-quilt";

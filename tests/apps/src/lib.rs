@@ -16,6 +16,7 @@ pub mod gl {
 
 pub mod camera;
 pub mod cli;
+pub mod debug_output;
 pub mod image;
 pub mod legacy_extras;
 pub mod math;

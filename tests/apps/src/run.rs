@@ -98,6 +98,9 @@ fn check_gl_error(gl: &Gl, when: &str) {
 fn run(o: &Options, profile: Profile, make: Box<MakeScene>) -> Result<(), String> {
     let mut plat = platform::create(o.backend, o.size, profile)?;
     let gl = load_gl(plat.as_ref())?;
+    if o.debug_output {
+        crate::debug_output::enable(&gl)?;
+    }
     let mut scene = make(&gl, o)?;
     install_signal_handlers();
     let (w, h) = plat.size();
@@ -145,6 +148,9 @@ fn run(o: &Options, profile: Profile, make: Box<MakeScene>) -> Result<(), String
     }
     if o.timing {
         print_timing(o, &times);
+    }
+    if o.debug_output {
+        crate::debug_output::report();
     }
     scene.finish(&times);
     Ok(())
