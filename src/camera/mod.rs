@@ -8,6 +8,7 @@
 //! auto-convergence, and to tell orthographic draws (HUDs) from perspective ones.
 
 pub mod convergence;
+pub mod precision;
 pub mod projection;
 pub mod rig;
 
