@@ -267,3 +267,39 @@ fn chromium_bsu_quilt_has_parallax_and_exact_centre() {
         60,
     );
 }
+
+/// Regression: an ES context on a window with a 32-bit depth buffer (glmark2-es2) got a
+/// `GL_DEPTH_COMPONENT32` quilt, which ES cannot render to, and lost multiview. Both glmark2
+/// flavours now run FBO-heavy scenes under a quilt without a single layer error or warning.
+#[test]
+fn es_window_with_32bit_depth_gets_a_quilt() {
+    require_display();
+    for program in ["glmark2", "glmark2-es2"] {
+        let args = [
+            "run",
+            "--quilt",
+            "3x3",
+            "--log",
+            "warn",
+            "--",
+            program,
+            "-s",
+            "320x240",
+            "-b",
+            "build:duration=0.2",
+            "-b",
+            "shadow:duration=0.2",
+            "-b",
+            "refract:duration=0.2",
+            "-b",
+            "desktop:duration=0.2",
+        ];
+        let out = run(&launcher(), &args, &[]);
+        assert_success(&out, program);
+        let err = stderr(&out);
+        assert!(
+            !err.contains("holoinject: error") && !err.contains("holoinject: warn"),
+            "{program}:\n{err}"
+        );
+    }
+}

@@ -4,7 +4,6 @@
 //! `table()` is printed by `cargo test --release --lib camera::precision -- --nocapture` and
 //! quoted in the README; the tests assert the bounds stated there.
 
-use super::projection::{ProjectionKind, classify};
 use super::rig::ViewRig;
 
 /// Column-major perspective projection; `far = None` is the infinite far plane;
@@ -188,6 +187,7 @@ pub const F64_DEPTH_BOUND: f64 = 1e-5;
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::camera::projection::{ProjectionKind, classify};
     use proptest::prelude::*;
 
     #[test]

@@ -33,6 +33,8 @@ fn depth_format(gl: &Gl, info: GlInfo) -> (GLenum, GLenum) {
     let d = default_size(gl, depth, FRAMEBUFFER_ATTACHMENT_DEPTH_SIZE);
     let s = default_size(gl, stencil, FRAMEBUFFER_ATTACHMENT_STENCIL_SIZE);
     match (d, s > 0) {
+        // ES has no 32-bit normalised depth renderbuffers.
+        (32, false) if info.es => (DEPTH_COMPONENT32F, DEPTH_ATTACHMENT),
         (32, false) => (DEPTH_COMPONENT32, DEPTH_ATTACHMENT),
         (32, true) => (DEPTH32F_STENCIL8, DEPTH_STENCIL_ATTACHMENT),
         (16, false) => (DEPTH_COMPONENT16, DEPTH_ATTACHMENT),
@@ -59,10 +61,28 @@ fn default_has_alpha(gl: &Gl, info: GlInfo) -> bool {
 }
 
 impl QuiltTarget {
+    /// The quilt with depth as precise as the window's, or the universal 24/8 format when the
+    /// driver cannot render to that one.
     pub fn create(gl: &Gl, info: GlInfo, layout: QuiltLayout) -> Result<QuiltTarget, String> {
+        let preferred = {
+            let _guard = StateGuard::new(gl, info).framebuffers();
+            depth_format(gl, info)
+        };
+        let fallback = (DEPTH24_STENCIL8, DEPTH_STENCIL_ATTACHMENT);
+        match QuiltTarget::create_with(gl, info, layout, preferred) {
+            Err(_) if preferred != fallback => QuiltTarget::create_with(gl, info, layout, fallback),
+            result => result,
+        }
+    }
+
+    fn create_with(
+        gl: &Gl,
+        info: GlInfo,
+        layout: QuiltLayout,
+        (depth_format, depth_point): (GLenum, GLenum),
+    ) -> Result<QuiltTarget, String> {
         let _guard = StateGuard::new(gl, info).framebuffers().for_pass();
         let alpha = default_has_alpha(gl, info);
-        let (depth_format, depth_point) = depth_format(gl, info);
         let (mut fbo, mut color, mut depth) = (0, 0, 0);
         let (w, h) = (layout.width() as i32, layout.height() as i32);
         // SAFETY: creating and configuring our own objects; bindings are restored by the guard.

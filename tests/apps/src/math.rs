@@ -28,6 +28,21 @@ pub fn perspective(fovy: f32, aspect: f32, near: f32, far: f32) -> Mat4 {
     m
 }
 
+/// Perspective with an optional infinite far plane and optional reversed-Z for
+/// `glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE)` (depth 1 at near, 0 at far).
+pub fn perspective_ext(fovy: f32, aspect: f32, near: f32, far: Option<f32>, reversed: bool) -> Mat4 {
+    let mut m = perspective(fovy, aspect, near, far.unwrap_or(1.0e30));
+    let (a, b) = match (far, reversed) {
+        (Some(f), false) => ((f + near) / (near - f), 2.0 * f * near / (near - f)),
+        (None, false) => (-1.0, -2.0 * near),
+        (Some(f), true) => (near / (f - near), f * near / (f - near)),
+        (None, true) => (0.0, near),
+    };
+    m[10] = a;
+    m[14] = b;
+    m
+}
+
 /// glOrtho.
 pub fn ortho(l: f32, r: f32, b: f32, t: f32, n: f32, f: f32) -> Mat4 {
     let mut m = IDENTITY;

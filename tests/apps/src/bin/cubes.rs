@@ -39,6 +39,9 @@ struct Cubes {
     prog: u32,
     vao: u32,
     loc: [i32; 5],
+    near: f32,
+    far: Option<f32>,
+    reversed: bool,
 }
 
 impl Cubes {
@@ -46,7 +49,14 @@ impl Cubes {
         let prog = shader::program(gl, VS, FS)?;
         let loc = ["projection", "view", "model", "objectColor", "lightDir"].map(|n| shader::uniform(gl, prog, n));
         let vao = shader::pos_normal_vao(gl, &shader::cube_vertices());
-        Ok(Cubes { prog, vao, loc })
+        Ok(Cubes {
+            prog,
+            vao,
+            loc,
+            near: 0.1,
+            far: Some(100.0),
+            reversed: false,
+        })
     }
 
     /// Model matrix and colour of grid cell (i, j); heights and spin speeds
@@ -77,12 +87,24 @@ impl Cubes {
 impl Scene for Cubes {
     fn render(&mut self, gl: &Gl, frame: u64, v: &View) {
         let t = seconds(frame);
-        let p = v.projection(math::perspective(45f32.to_radians(), v.aspect(), 0.1, 100.0));
+        let p = v.projection(math::perspective_ext(
+            45f32.to_radians(),
+            v.aspect(),
+            self.near,
+            self.far,
+            self.reversed,
+        ));
         let view = math::look_at(EYE, CENTRE, [0.0, 1.0, 0.0]);
         unsafe {
             gl.Viewport(v.viewport[0], v.viewport[1], v.viewport[2], v.viewport[3]);
             gl.ClearColor(0.1, 0.12, 0.18, 1.0);
             gl.Enable(gl::DEPTH_TEST);
+            if self.reversed {
+                // Reversed-Z: depth 1 at the near plane, 0 at infinity, in [0,1] clip space.
+                gl.ClipControl(gl::LOWER_LEFT, gl::ZERO_TO_ONE);
+                gl.ClearDepth(0.0);
+                gl.DepthFunc(gl::GREATER);
+            }
             // Culling avoids front/back depth ties at silhouettes, which llvmpipe
             // resolves differently in FBOs and window surfaces.
             gl.Enable(gl::CULL_FACE);
@@ -109,12 +131,35 @@ fn main() -> ExitCode {
         name: "cubes",
         about: "GL 3.3 core lit cube grid (one draw call per cube)",
         default_convergence: math::distance(EYE, CENTRE),
-        extra: &[],
+        extra: &[
+            ("near", "0.1", "near plane distance"),
+            ("far", "100", "far plane distance, or inf"),
+            (
+                "depth",
+                "standard",
+                "standard | reversed (glClipControl ZERO_TO_ONE, GREATER, clear 0)",
+            ),
+        ],
         switches: &[],
     };
     holoapps::run::main(
         &info,
         Profile::Core33,
-        Box::new(|gl: &Gl, _: &Options| Ok(Box::new(Cubes::new(gl)?) as Box<dyn Scene>)),
+        Box::new(|gl: &Gl, o: &Options| {
+            let mut c = Cubes::new(gl)?;
+            c.near = o.extra["near"]
+                .parse()
+                .map_err(|_| "--near: expected a number".to_string())?;
+            c.far = match o.extra["far"].as_str() {
+                "inf" => None,
+                f => Some(f.parse().map_err(|_| "--far: expected a number or inf".to_string())?),
+            };
+            c.reversed = match o.extra["depth"].as_str() {
+                "standard" => false,
+                "reversed" => true,
+                d => return Err(format!("--depth: expected standard|reversed, got '{d}'")),
+            };
+            Ok(Box::new(c) as Box<dyn Scene>)
+        }),
     )
 }
