@@ -303,3 +303,34 @@ fn es_window_with_32bit_depth_gets_a_quilt() {
         );
     }
 }
+
+/// Contexts destroyed and re-created (glmark2 probes with one context, destroys it and makes
+/// its benchmark context) leave nothing behind in the layer: after a destruction at most the
+/// one context still in use is tracked.
+#[test]
+fn destroyed_contexts_are_not_kept() {
+    require_display();
+    let scenes = [
+        "build:duration=0.1",
+        "texture:duration=0.1",
+        "shading:duration=0.1",
+        "bump:duration=0.1",
+        "pulsar:duration=0.1",
+    ];
+    let mut args = vec![
+        "run", "--quilt", "2x1", "--log", "info", "--", "glmark2", "-s", "160x120",
+    ];
+    for s in &scenes {
+        args.extend(["-b", s]);
+    }
+    let out = run(&launcher(), &args, &[]);
+    assert_success(&out, "glmark2");
+    let err = stderr(&out);
+    let tracked: Vec<usize> = err
+        .lines()
+        .filter_map(|l| l.split(" destroyed (").nth(1))
+        .filter_map(|t| t.split_whitespace().next()?.parse().ok())
+        .collect();
+    assert!(!tracked.is_empty(), "no context was destroyed:\n{err}");
+    assert!(tracked.iter().all(|&n| n <= 1), "contexts pile up: {tracked:?}");
+}

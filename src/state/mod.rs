@@ -83,11 +83,16 @@ pub fn make_current(platform: Platform, handle: usize, binding: Binding) {
 }
 
 pub fn context_destroyed(platform: Platform, handle: usize) {
-    if let Some(map) = registry().as_mut() {
+    let alive = {
+        let mut reg = registry();
+        let map = reg.get_or_insert_with(HashMap::new);
         map.remove(&(platform, handle));
-    }
+        map.len()
+    };
     // A context destroyed while current stays alive until released (GLX/EGL semantics).
-    crate::log::info(format_args!("{platform:?} context {handle:#x} destroyed"));
+    crate::log::info(format_args!(
+        "{platform:?} context {handle:#x} destroyed ({alive} tracked)"
+    ));
 }
 
 pub fn display_terminated(platform: Platform, display: usize) {
