@@ -101,3 +101,22 @@ fn forced_internal_error_falls_back_to_pass_through() {
     // Frames after the failure are the app's own again: framebuffer 0 and unshifted shaders.
     assert_identical(&plain, &injected);
 }
+
+/// Regression: with the quilt standing in for framebuffer 0, an app asking about framebuffer
+/// 0's attachments (`glGetFramebufferAttachmentParameteriv(GL_FRAMEBUFFER, GL_DEPTH, …)`, as
+/// `HOLOAPPS_VERBOSE` makes the sample apps do) got GL_INVALID_ENUM and "depth 0". It must get
+/// the window's answer and no error.
+#[test]
+fn default_framebuffer_queries_answer_for_the_window() {
+    let cubes = app("cubes");
+    let app_args = ["--backend", "egl", "--size", "160x120", "--frames", "2"];
+    let plain = run(&cubes, &app_args, &[("HOLOAPPS_VERBOSE", "1")]);
+    let mut args = vec!["run", "--quilt", "3x3", "--", cubes.to_str().unwrap()];
+    args.extend(app_args);
+    let injected = run(&launcher(), &args, &[("HOLOAPPS_VERBOSE", "1")]);
+    assert_success(&injected, "cubes under the layer");
+    let first = |o: &std::process::Output| stderr(o).lines().next().unwrap_or("").to_string();
+    assert!(first(&plain).contains("(depth 24, stencil 8)"), "{}", first(&plain));
+    assert_eq!(first(&injected), first(&plain));
+    assert!(!stderr(&injected).contains("GL error"), "{}", stderr(&injected));
+}

@@ -84,6 +84,58 @@ pub fn patch_get(mv: &Multiview, pname: GLenum) -> Option<i32> {
     })
 }
 
+/// Queries whose answer describes the bound draw framebuffer: while the quilt stands in for
+/// framebuffer 0 they must describe the real window (an engine asking GL_DOUBLEBUFFER or
+/// GL_SAMPLES at start-up would otherwise see our framebuffer object).
+const DEFAULT_FRAMEBUFFER_QUERIES: [GLenum; 10] = [
+    DOUBLEBUFFER,
+    STEREO,
+    SAMPLES,
+    SAMPLE_BUFFERS,
+    RED_BITS,
+    GREEN_BITS,
+    BLUE_BITS,
+    ALPHA_BITS,
+    DEPTH_BITS,
+    STENCIL_BITS,
+];
+
+/// Runs `query` with the real framebuffer 0 bound where the app believes it is, when `pname`
+/// describes the draw framebuffer and the app's is 0; `None` when no rebinding is needed.
+pub fn on_real_default<R>(gl: &Gl, mv: &Multiview, pname: GLenum, query: impl FnOnce() -> R) -> Option<R> {
+    if mv.quilt_fbo().is_none() || mv.app.draw_fbo != 0 || !DEFAULT_FRAMEBUFFER_QUERIES.contains(&pname) {
+        return None;
+    }
+    // SAFETY: real framebuffer 0 for the query only; the app's (quilt) binding comes back.
+    unsafe { gl.BindFramebuffer(DRAW_FRAMEBUFFER, 0) };
+    let r = query();
+    rebind(gl, mv);
+    Some(r)
+}
+
+/// `glGetFramebufferAttachmentParameteriv` on framebuffer 0 (GL_BACK_LEFT, GL_DEPTH…): asked
+/// of the real default framebuffer, where those attachment names exist.
+pub fn on_real_target<R>(gl: &Gl, mv: &Multiview, target: GLenum, query: impl FnOnce() -> R) -> Option<R> {
+    let app = if target == READ_FRAMEBUFFER {
+        mv.app.read_fbo
+    } else {
+        mv.app.draw_fbo
+    };
+    if mv.quilt_fbo().is_none() || app != 0 {
+        return None;
+    }
+    let binding = if target == READ_FRAMEBUFFER {
+        READ_FRAMEBUFFER
+    } else {
+        DRAW_FRAMEBUFFER
+    };
+    // SAFETY: as in `on_real_default`.
+    unsafe { gl.BindFramebuffer(binding, 0) };
+    let r = query();
+    rebind(gl, mv);
+    Some(r)
+}
+
 /// Clears every layer of a shadowed framebuffer of the app.
 fn clear_layers(gl: &Gl, mv: &Multiview, f: &impl Fn()) -> bool {
     let Some(shadow) = mv.shadows.get(&mv.app.draw_fbo).filter(|_| mv.app.draw_fbo != 0) else {

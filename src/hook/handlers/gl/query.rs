@@ -8,6 +8,12 @@ use crate::multiview::{framebuffer as fb, with_active};
 const NUM_PROGRAM_BINARY_FORMATS: GLenum = 0x87FE;
 
 pub fn glGetIntegerv(real: impl Fn(GLenum, *mut GLint), pname: GLenum, data: *mut GLint) {
+    if with_active(|_, mv, gl| fb::on_real_default(gl, mv, pname, || real(pname, data)))
+        .flatten()
+        .is_some()
+    {
+        return;
+    }
     real(pname, data);
     if data.is_null() || !crate::config::settings().multiview() {
         return;
@@ -57,5 +63,30 @@ pub fn glGetShaderiv(real: impl Fn(GLuint, GLenum, *mut GLint), shader: GLuint, 
     if let Some(len) = len {
         // SAFETY: one integer answer.
         unsafe { *params = len as GLint };
+    }
+}
+
+pub fn glGetBooleanv(real: impl Fn(GLenum, *mut GLboolean), pname: GLenum, data: *mut GLboolean) {
+    if with_active(|_, mv, gl| fb::on_real_default(gl, mv, pname, || real(pname, data)))
+        .flatten()
+        .is_none()
+    {
+        real(pname, data)
+    }
+}
+
+pub fn glGetFramebufferAttachmentParameteriv(
+    real: impl Fn(GLenum, GLenum, GLenum, *mut GLint),
+    target: GLenum,
+    attachment: GLenum,
+    pname: GLenum,
+    params: *mut GLint,
+) {
+    let call = || real(target, attachment, pname, params);
+    if with_active(|_, mv, gl| fb::on_real_target(gl, mv, target, call))
+        .flatten()
+        .is_none()
+    {
+        real(target, attachment, pname, params)
     }
 }
