@@ -120,3 +120,44 @@ fn default_framebuffer_queries_answer_for_the_window() {
     assert_eq!(first(&injected), first(&plain));
     assert!(!stderr(&injected).contains("GL error"), "{}", stderr(&injected));
 }
+
+/// Several contexts in one share group, current on two threads at once, sharing a texture:
+/// under the layer both keep working and each thread's framebuffer 0 (its centre view) is
+/// its plain image.
+#[test]
+fn two_threads_sharing_a_texture() {
+    let dir = temp_dir("two_threads");
+    let tt = app("twothreads");
+    let (plain, injected) = (dir.join("plain"), dir.join("injected"));
+    let shot = |p: &std::path::Path| p.to_str().unwrap().to_string();
+    assert_success(
+        &run(&tt, &["--frames", "5", "--screenshot", &shot(&plain)], &[]),
+        "plain twothreads",
+    );
+    let args = [
+        "run",
+        "--quilt",
+        "3x3",
+        "--log",
+        "info",
+        "--",
+        tt.to_str().unwrap(),
+        "--frames",
+        "5",
+        "--screenshot",
+        &shot(&injected),
+    ];
+    let out = run(&launcher(), &args, &[]);
+    assert_success(&out, "twothreads under the layer");
+    assert_eq!(
+        stderr(&out).matches("created (share group 1)").count(),
+        2,
+        "{}",
+        stderr(&out)
+    );
+    for side in ["a", "b"] {
+        let p = dir.join(format!("plain-{side}.png"));
+        assert!(has_content(&p));
+        assert_identical(&p, &dir.join(format!("injected-{side}.png")));
+    }
+}

@@ -10,11 +10,15 @@ mod util;
 use std::path::{Path, PathBuf};
 use util::*;
 
-/// Records `program` with apitrace for `seconds` (or until it exits).
+/// Records `program` with apitrace for `seconds` (or until it exits). `timeout` signals the
+/// whole process group; apitrace's own signal handler in the traced program has been seen
+/// to hang under load, so a KILL follows 5 s later (glretrace replays truncated traces).
 fn record(dir: &Path, name: &str, api: &str, program: &[&str], seconds: &str) -> PathBuf {
     require_display();
     let trace = dir.join(format!("{name}.trace"));
     let mut args = vec![
+        "-k",
+        "5",
         seconds,
         "apitrace",
         "trace",

@@ -197,27 +197,7 @@ impl Egl {
     }
 
     fn init(&mut self, surface_type: EglInt, profile: Profile) -> Result<Ptr, String> {
-        let (api, renderable, api_name) = api_for(profile);
-        let a = &self.api;
-        unsafe {
-            if self.dpy.is_null() || (a.initialize)(self.dpy, ptr::null_mut(), ptr::null_mut()) == 0 {
-                return Err(a.err("eglGetPlatformDisplay/eglInitialize"));
-            }
-            if (a.bind_api)(api) == 0 {
-                return Err(a.err(&format!("eglBindAPI({api_name})")));
-            }
-            #[rustfmt::skip]
-            let attrs = [
-                EGL_SURFACE_TYPE, surface_type, EGL_RENDERABLE_TYPE, renderable,
-                0x3024, 8, 0x3023, 8, 0x3022, 8, 0x3021, 8, // R G B A
-                0x3025, 24, 0x3026, 8, EGL_NONE,             // depth stencil
-            ];
-            let (mut cfg, mut n) = (ptr::null_mut(), 0);
-            if (a.choose_config)(self.dpy, attrs.as_ptr(), &mut cfg, 1, &mut n) == 0 || n == 0 {
-                return Err(a.err("eglChooseConfig (RGBA8, depth 24, stencil 8)"));
-            }
-            Ok(cfg)
-        }
+        init_display(&self.api, self.dpy, surface_type, profile)
     }
 
     fn make_context(&mut self, cfg: Ptr, profile: Profile) -> Result<(), String> {
@@ -232,6 +212,120 @@ impl Egl {
             }
         }
         Ok(())
+    }
+}
+
+/// eglInitialize, eglBindAPI (for the calling thread) and an RGBA8/D24/S8 config.
+fn init_display(a: &Api, dpy: Ptr, surface_type: EglInt, profile: Profile) -> Result<Ptr, String> {
+    let (api, renderable, api_name) = api_for(profile);
+    unsafe {
+        if dpy.is_null() || (a.initialize)(dpy, ptr::null_mut(), ptr::null_mut()) == 0 {
+            return Err(a.err("eglGetPlatformDisplay/eglInitialize"));
+        }
+        if (a.bind_api)(api) == 0 {
+            return Err(a.err(&format!("eglBindAPI({api_name})")));
+        }
+        #[rustfmt::skip]
+        let attrs = [
+            EGL_SURFACE_TYPE, surface_type, EGL_RENDERABLE_TYPE, renderable,
+            0x3024, 8, 0x3023, 8, 0x3022, 8, 0x3021, 8, // R G B A
+            0x3025, 24, 0x3026, 8, EGL_NONE,             // depth stencil
+        ];
+        let (mut cfg, mut n) = (ptr::null_mut(), 0);
+        if (a.choose_config)(dpy, attrs.as_ptr(), &mut cfg, 1, &mut n) == 0 || n == 0 {
+            return Err(a.err("eglChooseConfig (RGBA8, depth 24, stencil 8)"));
+        }
+        Ok(cfg)
+    }
+}
+
+/// Several contexts and pbuffers on one headless (surfaceless Mesa) display,
+/// for apps that manage contexts and threads themselves (`twothreads`).
+/// EGL calls are thread-safe, so the display may be shared between threads.
+pub struct HeadlessDisplay {
+    api: Api,
+    dpy: Ptr,
+    cfg: Ptr,
+    profile: Profile,
+}
+
+/// An EGL context or surface handle.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Handle(Ptr);
+
+unsafe impl Send for Handle {}
+unsafe impl Sync for Handle {}
+unsafe impl Send for HeadlessDisplay {}
+unsafe impl Sync for HeadlessDisplay {}
+
+impl HeadlessDisplay {
+    pub fn new(profile: Profile) -> Result<Self, String> {
+        let api = Api::load()?;
+        let dpy = api.platform_display(EGL_PLATFORM_SURFACELESS_MESA, ptr::null_mut())?;
+        let cfg = init_display(&api, dpy, EGL_PBUFFER_BIT, profile)?;
+        Ok(HeadlessDisplay { api, dpy, cfg, profile })
+    }
+
+    pub fn create_pbuffer(&self, size: (u32, u32)) -> Result<Handle, String> {
+        let attrs = [EGL_WIDTH, size.0 as EglInt, EGL_HEIGHT, size.1 as EglInt, EGL_NONE];
+        let s = unsafe { (self.api.create_pbuffer)(self.dpy, self.cfg, attrs.as_ptr()) };
+        if s.is_null() {
+            return Err(self.api.err("eglCreatePbufferSurface"));
+        }
+        Ok(Handle(s))
+    }
+
+    /// A context of the display's profile, in `share`'s share group if given.
+    pub fn create_context(&self, share: Option<Handle>) -> Result<Handle, String> {
+        let share = share.map_or(ptr::null_mut(), |h| h.0);
+        let attrs = context_attribs(self.profile);
+        let c = unsafe { (self.api.create_context)(self.dpy, self.cfg, share, attrs.as_ptr()) };
+        if c.is_null() {
+            return Err(self.api.err(&format!("eglCreateContext({:?})", self.profile)));
+        }
+        Ok(Handle(c))
+    }
+
+    /// Binds the profile's client API for the calling thread (eglBindAPI is
+    /// per thread), then makes `ctx` current on `surface`; None releases.
+    pub fn make_current(&self, target: Option<(Handle, Handle)>) -> Result<(), String> {
+        let (api, _, api_name) = api_for(self.profile);
+        let (s, c) = target.map_or((ptr::null_mut(), ptr::null_mut()), |(s, c)| (s.0, c.0));
+        unsafe {
+            if (self.api.bind_api)(api) == 0 {
+                return Err(self.api.err(&format!("eglBindAPI({api_name})")));
+            }
+            if (self.api.make_current)(self.dpy, s, s, c) == 0 {
+                return Err(self.api.err("eglMakeCurrent"));
+            }
+        }
+        Ok(())
+    }
+
+    pub fn swap_buffers(&self, surface: Handle) -> Result<(), String> {
+        if unsafe { (self.api.swap_buffers)(self.dpy, surface.0) } == 0 {
+            return Err(self.api.err("eglSwapBuffers"));
+        }
+        Ok(())
+    }
+
+    pub fn get_proc_address(&self, name: &str) -> *const c_void {
+        let c = CString::new(name).unwrap();
+        unsafe { (self.api.get_proc_address)(c.as_ptr()) }
+    }
+
+    pub fn destroy_context(&self, ctx: Handle) {
+        unsafe { (self.api.destroy_context)(self.dpy, ctx.0) };
+    }
+
+    pub fn destroy_surface(&self, surface: Handle) {
+        unsafe { (self.api.destroy_surface)(self.dpy, surface.0) };
+    }
+}
+
+impl Drop for HeadlessDisplay {
+    fn drop(&mut self) {
+        unsafe { (self.api.terminate)(self.dpy) };
     }
 }
 

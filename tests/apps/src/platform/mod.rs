@@ -9,6 +9,8 @@ mod glx;
 mod osmesa;
 mod x11win;
 
+pub use egl::{Handle as EglHandle, HeadlessDisplay as EglHeadlessDisplay};
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Profile {
     /// OpenGL 3.3 core.
