@@ -117,26 +117,7 @@ mod tests {
     use super::*;
 
     fn perspective(fovy: f64, aspect: f64, n: f64, f: f64) -> [f32; 16] {
-        let t = 1.0 / (fovy.to_radians() / 2.0).tan();
-        [
-            t / aspect,
-            0.,
-            0.,
-            0.,
-            0.,
-            t,
-            0.,
-            0.,
-            0.,
-            0.,
-            (f + n) / (n - f),
-            -1.,
-            0.,
-            0.,
-            2. * f * n / (n - f),
-            0.,
-        ]
-        .map(|v| v as f32)
+        crate::camera::precision::perspective(fovy, aspect, n, Some(f), false).map(|v| v as f32)
     }
 
     #[test]
