@@ -42,6 +42,8 @@ mod rewrite;
 mod tests;
 #[cfg(test)]
 mod tests_lines;
+#[cfg(test)]
+mod tests_mutations;
 mod text;
 mod text_scan;
 
