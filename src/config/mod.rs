@@ -7,6 +7,8 @@ pub mod cli;
 pub mod device;
 pub mod options;
 pub mod parse;
+#[cfg(test)]
+mod tests_mutations;
 
 use std::path::PathBuf;
 use std::sync::OnceLock;
