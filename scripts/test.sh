@@ -4,7 +4,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export ALSOFT_DRIVERS=null
+cargo build --workspace --release --locked
 # -noreset: Xvfb otherwise resets whenever its last client disconnects, and a GLX test
 # starting during that reset fails with "cannot open X display" (seen in CI).
-cargo build --workspace --release --locked
 xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" cargo test --workspace --release --locked -- --test-threads=2
