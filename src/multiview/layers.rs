@@ -58,7 +58,13 @@ pub fn bind_layers(gl: &Gl, mv: &Multiview, subs: &Substitutions, i: Option<usiz
 }
 
 /// Why a draw into the app's framebuffer `fbo` is view-dependent, if it is.
-pub fn dependence(gl: &Gl, mv: &Multiview, fbo: u32, camera_draw: bool, subs: &Substitutions) -> Option<&'static str> {
+pub fn dependence(
+    gl: &Gl,
+    mv: &mut Multiview,
+    fbo: u32,
+    camera_draw: bool,
+    subs: &Substitutions,
+) -> Option<&'static str> {
     use crate::config::FboViews;
     match mv.settings.fbo_views {
         FboViews::None => return None,
@@ -67,10 +73,14 @@ pub fn dependence(gl: &Gl, mv: &Multiview, fbo: u32, camera_draw: bool, subs: &S
     }
     if !subs.is_empty() {
         Some("it samples a view-dependent texture")
-    } else if camera_draw && shadow::has_color_attachment(gl, fbo) {
+    } else if camera_draw
+        && *mv
+            .has_color
+            .entry(fbo)
+            .or_insert_with(|| shadow::has_color_attachment(gl, fbo))
+    {
         Some("the main camera draws into it")
     } else {
-        let _ = mv;
         None
     }
 }

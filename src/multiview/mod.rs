@@ -70,6 +70,9 @@ pub struct Multiview {
     /// Layered shadows of the app's framebuffers, by app name; those that cannot be.
     pub shadows: std::collections::HashMap<u32, shadow::ShadowFbo>,
     pub unshadowable: std::collections::HashSet<u32>,
+    /// Whether each of the app's framebuffers has a colour attachment (asked of GL once per
+    /// attachment change, not per draw: shadow-map passes draw a lot).
+    pub has_color: std::collections::HashMap<u32, bool>,
     /// Framebuffers already logged as drawn once (not view-dependent).
     pub drawn_once: std::collections::HashSet<u32>,
     pub units: layers::TextureUnits,
@@ -122,6 +125,7 @@ impl Multiview {
             shadows: Default::default(),
             unshadowable: Default::default(),
             drawn_once: Default::default(),
+            has_color: Default::default(),
             units: Default::default(),
             passes: Default::default(),
             native: None,

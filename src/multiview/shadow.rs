@@ -366,12 +366,6 @@ impl ShadowFbo {
             .any(|a| a.app_name == name && a.renderbuffer == renderbuffer)
     }
 
-    pub fn has_color(&self) -> bool {
-        self.attachments.iter().any(|a| {
-            a.point != DEPTH_ATTACHMENT && a.point != STENCIL_ATTACHMENT && a.point != DEPTH_STENCIL_ATTACHMENT
-        })
-    }
-
     /// Mipmaps of every layer, when the app regenerates its texture's.
     pub fn generate_mipmaps(&self, gl: &Gl, name: u32) {
         for a in self

@@ -4,7 +4,7 @@
 //! blending with destination alpha behaves as it would on screen.
 
 use super::layout::QuiltLayout;
-use crate::gl::guard::{StateGuard, get_i};
+use crate::gl::guard::StateGuard;
 use crate::gl::*;
 use crate::state::GlInfo;
 
@@ -127,10 +127,5 @@ impl QuiltTarget {
             gl.DeleteTextures(1, &self.color);
             gl.DeleteRenderbuffers(1, &self.depth);
         }
-    }
-
-    /// Is our quilt the framebuffer bound to `pname` right now?
-    pub fn is_bound(&self, gl: &Gl, pname: GLenum) -> bool {
-        get_i(gl, pname) as u32 == self.fbo
     }
 }

@@ -17,11 +17,6 @@ use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 static FRAME: AtomicU64 = AtomicU64::new(0);
 static DUMP_FAILED: AtomicBool = AtomicBool::new(false);
 
-/// The number of the last frame presented (0 before the first).
-pub fn frames_presented() -> u64 {
-    FRAME.load(Ordering::Relaxed)
-}
-
 /// Ends the frame drawn to `surface` (a GLX drawable, EGL surface or OSMesa buffer);
 /// `present` is the real swap.
 pub fn frame_boundary(surface: usize, present: impl FnOnce()) {

@@ -127,8 +127,3 @@ pub fn swapless_surface() -> Option<usize> {
             .map(|cur| cur.binding.draw)
     })
 }
-
-/// Number of live contexts (diagnostics and leak tests).
-pub fn context_count() -> usize {
-    registry().as_ref().map_or(0, HashMap::len)
-}

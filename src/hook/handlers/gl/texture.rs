@@ -151,6 +151,7 @@ fn reattached(target: GLenum, attachment: GLenum, name: u32, renderbuffer: bool)
         } else {
             mv.app.draw_fbo
         };
+        mv.has_color.remove(&fbo);
         let same = mv
             .shadows
             .get(&fbo)
@@ -207,7 +208,10 @@ fn names<'a>(n: GLsizei, p: *const GLuint) -> &'a [GLuint] {
 pub fn glDeleteFramebuffers(real: impl Fn(GLsizei, *const GLuint), n: GLsizei, fbos: *const GLuint) {
     with_active(|_, mv, gl| {
         let gone = names(n, fbos);
-        gone.iter().for_each(|f| _ = mv.unshadowable.remove(f));
+        gone.iter().for_each(|f| {
+            mv.unshadowable.remove(f);
+            mv.has_color.remove(f);
+        });
         forget(gl, mv, |f, _| gone.contains(&f));
     });
     real(n, fbos)
