@@ -78,3 +78,49 @@ proptest! {
         }
     }
 }
+
+/// The inputs `cargo fuzz` found (tests/fuzz/regressions/glsl: stage byte + source), each
+/// checked like the fuzz target does, on a thread so that a hang fails instead of stalling.
+#[test]
+fn fuzz_regressions_finish_without_panics() {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fuzz/regressions/glsl");
+    let mut inputs: Vec<Vec<u8>> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| std::fs::read(e.unwrap().path()).unwrap())
+        .collect();
+    // Directives ending in `##` at the end of the input made glsl-lang's preprocessor spin.
+    for src in [
+        "#if ##",
+        "#if a ##",
+        "#define X a ##",
+        "#if 1\n#elif ##",
+        "#if ## \\\n",
+        "#if ##/*",
+    ] {
+        inputs.push([&[0u8][..], src.as_bytes()].concat());
+    }
+    assert!(inputs.len() > 6, "no regression files in {dir}");
+    for data in inputs {
+        let (tx, rx) = std::sync::mpsc::channel();
+        let shown = String::from_utf8_lossy(&data).into_owned();
+        std::thread::spawn(move || {
+            let stages = [Stage::Vertex, Stage::Geometry, Stage::TessEval, Stage::Fragment];
+            let stage = stages[data[0] as usize % 4];
+            let source = String::from_utf8_lossy(&data[1..]).into_owned();
+            let analysis = analyse(&source, stage);
+            let _ = rewrite(&source, &analysis);
+            let _ = fragcoord::rewrite(&source);
+            let _ = super::parse_error(&source);
+            tx.send(()).unwrap();
+        });
+        let done = rx.recv_timeout(std::time::Duration::from_secs(20));
+        assert!(done.is_ok(), "analysis did not finish (or panicked) on {shown:?}");
+    }
+}
+
+#[test]
+fn a_final_line_comment_still_parses() {
+    let src = "#version 330 core\nuniform mat4 mvp;\nin vec4 p;\nvoid main() { gl_Position = mvp * p; } // end";
+    assert!(analyse(src, Stage::Vertex).parsed);
+    assert!(!analyse("void main() { gl_Position = vec4(0.0); } /* open", Stage::Vertex).parsed);
+}

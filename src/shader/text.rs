@@ -25,6 +25,23 @@ pub fn comment_mask(src: &str) -> Vec<bool> {
     mask
 }
 
+/// Does the source end inside a `/* ...` comment that is never closed?
+pub fn ends_in_block_comment(src: &str) -> bool {
+    let bytes = src.as_bytes();
+    let mut i = 0;
+    while i < bytes.len() {
+        match (bytes[i], bytes.get(i + 1)) {
+            (b'/', Some(b'/')) => i = src[i..].find('\n').map_or(bytes.len(), |e| i + e),
+            (b'/', Some(b'*')) => match src[i + 2..].find("*/") {
+                Some(e) => i += 2 + e + 2,
+                None => return true,
+            },
+            _ => i += 1,
+        }
+    }
+    false
+}
+
 /// The source with every comment byte replaced by a space, newlines kept.
 pub fn blank_comments(src: &str) -> String {
     let mask = comment_mask(src);
