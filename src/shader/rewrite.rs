@@ -29,6 +29,16 @@ fn refuse(blanked: &str, analysis: &Analysis) -> Result<(), String> {
     {
         return Err("already rewritten by holoinject".into());
     }
+    // Mesa compiles a geometry shader handed over as a vertex shader when the geometry
+    // extension is enabled, but not its rewrite (found by the `glsl_compiles` fuzz target);
+    // such a program cannot link anyway, so it keeps its own text.
+    if analysis.stage != Stage::Geometry
+        && ["EmitVertex", "EmitStreamVertex", "EndPrimitive", "EndStreamPrimitive"]
+            .iter()
+            .any(|name| text::has_ident(blanked, name))
+    {
+        return Err("geometry-shader built-ins outside a geometry shader".into());
+    }
     if !analysis.writes_position {
         return Err("does not write gl_Position".into());
     }
@@ -46,8 +56,8 @@ fn rewrite_main(source: &str, blanked: &str, dirs: &[Directive]) -> Result<Strin
         return Err("no main()".into());
     }
     let version = text::version(dirs);
-    let (offset, next_line) = match version {
-        Some((_, line)) => text::offset_after_line(source, line).ok_or("no code after #version")?,
+    let (offset, next_line) = match anchor_line(dirs) {
+        Some(line) => text::offset_after_line(source, line).ok_or("no code after #version")?,
         None => (0, 0),
     };
     let head = format!(
@@ -60,17 +70,23 @@ fn rewrite_main(source: &str, blanked: &str, dirs: &[Directive]) -> Result<Strin
     Ok(splice(source, offset, &head, &tail))
 }
 
-fn rewrite_geometry(source: &str, blanked: &str, dirs: &[Directive]) -> String {
-    let version = text::version(dirs);
-    // No non-preprocessor token may precede an #extension: our prototypes go after the last.
-    let anchor = dirs
+/// The line after which our text goes: the last `#extension` (outside any conditional it is
+/// in), else `#version`. No non-preprocessor token may precede an `#extension`, and Mesa also
+/// reads a shader differently when a `#define` comes between `#version` and an `#extension`
+/// (found by the `glsl_compiles` fuzz target).
+fn anchor_line(dirs: &[Directive]) -> Option<usize> {
+    let last_extension = dirs
         .iter()
         .filter(|d| d.name == "extension")
         .map(|d| d.line)
         .next_back();
-    let anchor = anchor.or(version.map(|v| v.1));
-    let anchor = anchor.map(|line| text::line_after_conditionals(dirs, line));
-    let (offset, next_line) = anchor
+    let anchor = last_extension.or(text::version(dirs).map(|v| v.1));
+    anchor.map(|line| text::line_after_conditionals(dirs, line))
+}
+
+fn rewrite_geometry(source: &str, blanked: &str, dirs: &[Directive]) -> String {
+    let version = text::version(dirs);
+    let (offset, next_line) = anchor_line(dirs)
         .and_then(|line| text::offset_after_line(source, line))
         .unwrap_or((0, 0));
     let streams = text::has_ident(blanked, "EmitStreamVertex");
