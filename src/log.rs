@@ -87,6 +87,24 @@ pub fn once(flag: &AtomicBool, l: Level, args: Arguments) {
     }
 }
 
+/// Logs at `l` the first time `key` is seen (e.g. a program id and what went wrong with it),
+/// so that a condition met on every draw is reported once. Keys are remembered up to a cap;
+/// past it, nothing more is logged through here.
+pub fn once_for(key: (&'static str, u64), l: Level, args: Arguments) {
+    const CAP: usize = 4096;
+    static SEEN: std::sync::Mutex<Vec<(&'static str, u64)>> = std::sync::Mutex::new(Vec::new());
+    if !enabled(l) {
+        return;
+    }
+    let mut seen = SEEN.lock().unwrap_or_else(|p| p.into_inner());
+    if seen.len() >= CAP || seen.contains(&key) {
+        return;
+    }
+    seen.push(key);
+    drop(seen);
+    emit(l, args)
+}
+
 static ANNOUNCED: AtomicBool = AtomicBool::new(false);
 
 /// The layer's start-up line (info level), printed on the first GL activity. Tests look for

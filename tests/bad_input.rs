@@ -26,7 +26,15 @@ fn launcher_rejects_bad_values_with_one_line() {
     std::fs::write(&garbled, "{ \"pitch\": { \"value\": 52.").unwrap();
     let partial = dir.join("visual.json");
     std::fs::write(&partial, r#"{"slope": {"value": -7.2}, "center": {"value": 0.1}, "DPI": {"value": 324}, "screenW": {"value": 1536}, "screenH": {"value": 2048}}"#).unwrap();
-    let cases: [(&[&str], &str); 14] = [
+    let bad_toml = dir.join("bad.toml");
+    std::fs::write(&bad_toml, "quilt = \"5x9\"\ndepthiness = = 0.1\n").unwrap();
+    let cases: [(&[&str], &str); 17] = [
+        (
+            &["--preset", bad_toml.to_str().unwrap()],
+            "bad.toml (line 2): not valid TOML",
+        ),
+        (&["--preset", "no-such-game"], "unknown preset \"no-such-game\""),
+        (&["--preset", "/nonexistent/p.toml"], "preset /nonexistent/p.toml"),
         (&["--quilt", "0x6"], "--quilt 0x6"),
         (&["--quilt", "-8x6"], "--quilt -8x6"),
         (&["--tile", "100000x560"], "--tile 100000x560"),
@@ -93,4 +101,87 @@ fn layer_reports_bad_variables_and_keeps_running() {
     for (var, value, needle) in cases {
         layer_survives(var, value, needle);
     }
+}
+
+/// Presets found by the program's name in the user's folder: a malformed one is reported once
+/// (file and line) and ignored, bad fields are reported one line each (file and field) and
+/// skipped, good fields apply, and the environment still wins over the preset.
+#[test]
+fn app_presets_apply_and_their_problems_are_named() {
+    let cubes = app("cubes");
+    let lib = layer_lib().to_str().unwrap().to_string();
+    let case = std::cell::Cell::new(0);
+    let run_with = |preset: &str, extra: &[(&str, &str)]| {
+        case.set(case.get() + 1);
+        let dir = temp_dir(&format!("app_preset_{}", case.get()));
+        let presets = dir.join("config/holoinject/presets");
+        std::fs::create_dir_all(&presets).unwrap();
+        std::fs::write(presets.join("cubes.toml"), preset).unwrap();
+        let dumps = dir.join("dumps");
+        let config = dir.join("config").to_str().unwrap().to_string();
+        let dump = dumps.to_str().unwrap().to_string();
+        let mut env = vec![
+            ("LD_PRELOAD", lib.as_str()),
+            ("XDG_CONFIG_HOME", config.as_str()),
+            ("HOLOINJECT_DUMP", dump.as_str()),
+            ("HOLOINJECT_LOG", "info"),
+        ];
+        env.extend_from_slice(extra);
+        let out = run(
+            &cubes,
+            &["--backend", "egl", "--size", "160x120", "--frames", "2"],
+            &env,
+        );
+        let quilts: Vec<String> = std::fs::read_dir(&dumps)
+            .map(|d| d.filter_map(|e| e.ok()?.file_name().into_string().ok()).collect())
+            .unwrap_or_default();
+        (out, quilts)
+    };
+    let has_quilt = |quilts: &[String], grid: &str| quilts.iter().any(|q| q.contains(&format!("_qs{grid}a")));
+
+    let (out, quilts) = run_with("quilt = \"3x2\"\nfocus = 0.01\n", &[]);
+    let err = stderr(&out);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        err.contains("preset ") && err.contains("holoinject/presets/cubes.toml (by program name cubes)"),
+        "{err}"
+    );
+    assert!(has_quilt(&quilts, "3x2"), "preset quilt not applied: {quilts:?}");
+
+    let (out, quilts) = run_with("quilt = \"3x2\"\n", &[("HOLOINJECT_QUILT", "2x2")]);
+    assert!(
+        out.status.success() && has_quilt(&quilts, "2x2"),
+        "environment did not win: {quilts:?}"
+    );
+
+    let (out, quilts) = run_with(
+        "quilt = \"0x0\"\nviews = 9\ntile = \"100000x10\"\nconvergence = 12\n",
+        &[],
+    );
+    let err = stderr(&out);
+    assert!(out.status.success(), "{err}");
+    for field in ["quilt", "views", "tile"] {
+        let needle = format!("cubes.toml: field \"{field}\"");
+        assert_eq!(err.matches(&needle).count(), 1, "`{needle}` not said once:\n{err}");
+    }
+    assert!(
+        has_quilt(&quilts, "8x6"),
+        "bad quilt not replaced by the default: {quilts:?}"
+    );
+
+    let (out, quilts) = run_with("quilt = [\n", &[]);
+    let err = stderr(&out);
+    assert!(out.status.success(), "{err}");
+    assert_eq!(err.matches("not valid TOML").count(), 1, "{err}");
+    assert!(err.contains("cubes.toml (line "), "{err}");
+    assert!(has_quilt(&quilts, "8x6"), "{quilts:?}");
+
+    let (out, _) = run_with("quilt = \"3x2\"\n", &[("HOLOINJECT_PRESET", "no-such-game")]);
+    let err = stderr(&out);
+    assert!(out.status.success(), "{err}");
+    assert_eq!(
+        err.matches("HOLOINJECT_PRESET=no-such-game: unknown preset").count(),
+        1,
+        "{err}"
+    );
 }

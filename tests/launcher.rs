@@ -69,7 +69,7 @@ fn bad_quilt_syntax_is_one_line_error() {
 
 #[test]
 fn options_not_available_yet_are_refused_not_ignored() {
-    for args in [["--mode", "synth"], ["--mode", "hybrid:4"], ["--preset", "quake"]] {
+    for args in [["--mode", "synth"], ["--mode", "hybrid:4"]] {
         let mut all = vec!["run"];
         all.extend(args);
         all.extend(["--", "true"]);
@@ -148,4 +148,33 @@ fn readme_test_command_is_what_ci_runs() {
     let ci = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/.ci/run")).unwrap();
     let command = "scripts/setup-debian.sh && scripts/test.sh";
     assert!(readme.contains(command) && ci.lines().any(|l| l.trim() == command));
+}
+
+#[test]
+fn presets_are_listed_and_shown_by_dry_run() {
+    let out = launch(&["presets"], &[]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success());
+    for name in ["glxgears", "es2gears", "glmark2", "chromium-bsu"] {
+        assert!(text.contains(&format!("  {name} ")), "{name} missing:\n{text}");
+    }
+    let out = launch(&["run", "--preset", "glxgears", "--dry-run", "--", "true"], &[]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("# preset presets/glxgears.toml (by --preset glxgears)"),
+        "{text}"
+    );
+    assert!(text.contains("HOLOINJECT_PRESET=glxgears"), "{text}");
+    // Chosen by the program's name when none is given (here a copy of `true` named glmark2-es2).
+    let dir = std::env::temp_dir().join(format!("holoinject-dry-run-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let fake = dir.join("glmark2-es2");
+    std::fs::copy("/bin/true", &fake).unwrap();
+    let out = launch(&["run", "--dry-run", "--", fake.to_str().unwrap()], &[]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("# preset presets/glmark2.toml (by program name glmark2-es2)"),
+        "{text}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -2,6 +2,7 @@
 //! `holoinject::config` so the layer and the launcher cannot disagree.
 
 use holoinject::config::cli::{self, Launch};
+use holoinject::config::preset;
 use std::ffi::{CString, OsString};
 use std::os::unix::fs::PermissionsExt;
 use std::os::unix::process::CommandExt;
@@ -19,6 +20,7 @@ fn run() -> Result<(), String> {
     match args.first().and_then(|a| a.to_str()) {
         Some("run") if args.get(1).is_some_and(|a| a == "--help" || a == "-h") => print_help(),
         Some("run") => launch(cli::parse_run(&args[1..])?),
+        Some("presets") => list_presets(),
         Some("--version" | "-V") => {
             println!("holoinject {}", env!("CARGO_PKG_VERSION"));
             Ok(())
@@ -39,8 +41,13 @@ fn launch(mut plan: Launch) -> Result<(), String> {
     let lib = layer_library()?;
     let program = find_program(&plan.program)?;
     absolutise_dump_dir(&mut plan)?;
+    absolutise_preset_path(&mut plan)?;
+    let preset = chosen_preset(&plan, &program);
     let preload = cli::ld_preload_with(std::env::var_os("LD_PRELOAD").as_deref(), &lib.to_string_lossy());
     if plan.dry_run {
+        if let Some(c) = &preset {
+            println!("# preset {} (by {})", c.preset.source, c.reason);
+        }
         println!("LD_PRELOAD={preload}");
         for (k, v) in &plan.env {
             println!("{k}={v}");
@@ -117,6 +124,54 @@ fn absolutise_dump_dir(plan: &mut Launch) -> Result<(), String> {
     std::fs::write(&probe, b"").map_err(|e| format!("--dump {}: not writable: {e}", path.display()))?;
     let _ = std::fs::remove_file(probe);
     *dir = path.to_string_lossy().into_owned();
+    Ok(())
+}
+
+/// The preset the layer will pick, for `--dry-run`. Problems with it are the layer's to report
+/// (once, when the program starts): an explicit `--preset` was already checked as an option.
+fn chosen_preset(plan: &Launch, program: &Path) -> Option<preset::Chosen> {
+    let env = |k: &str| std::env::var(k).ok();
+    let chosen = match plan.get("preset") {
+        Some(spec) => preset::load_spec(spec, &env),
+        None if std::env::var_os("HOLOINJECT_PRESET").is_some() => return None,
+        None => {
+            let names: Vec<String> = [program.as_os_str(), plan.program.as_os_str()]
+                .iter()
+                .filter_map(|p| Path::new(p).file_name().and_then(|n| n.to_str()).map(str::to_string))
+                .collect();
+            preset::for_program(&names, &env)
+        }
+    };
+    chosen.ok().flatten()
+}
+
+/// A preset given as a relative path must still be found after the program changes directory.
+fn absolutise_preset_path(plan: &mut Launch) -> Result<(), String> {
+    let Some((_, spec)) = plan.env.iter_mut().find(|(k, _)| k == "HOLOINJECT_PRESET") else {
+        return Ok(());
+    };
+    if spec.contains('/') || spec.ends_with(".toml") {
+        let path = std::path::absolute(spec.as_str()).map_err(|e| format!("--preset {spec}: {e}"))?;
+        *spec = path.to_string_lossy().into_owned();
+    }
+    Ok(())
+}
+
+fn list_presets() -> Result<(), String> {
+    let env = |k: &str| std::env::var(k).ok();
+    if let Some(dir) = preset::user_dir(&env) {
+        println!(
+            "your presets: {} (win over bundled ones of the same name)",
+            dir.display()
+        );
+    }
+    println!("bundled presets (chosen by program name, or with --preset NAME):");
+    for name in preset::bundled_names() {
+        if let Ok(Some(c)) = preset::load_spec(name, &|_| None) {
+            let set: Vec<String> = c.preset.values.iter().map(|(k, v)| format!("{k}={v}")).collect();
+            println!("  {name:<14} for {:<40} {}", c.preset.matches.join(", "), set.join(" "));
+        }
+    }
     Ok(())
 }
 

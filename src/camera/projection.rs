@@ -20,6 +20,32 @@ pub struct Projection {
     pub depth: Option<DepthRange>,
     /// Horizontal focal scale `Fx` (P[0][0] of the bare projection), when recoverable.
     pub fx: Option<f64>,
+    /// Why a perspective matrix gave no depth model (reported once per program).
+    pub issue: Option<DepthIssue>,
+}
+
+/// What keeps a perspective matrix's depth from being linearised.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DepthIssue {
+    /// Row 3 or row 2 is (nearly) zero: no projection can be read from it.
+    Degenerate,
+    /// Row 2 is not parallel to row 3 in xyz: an oblique near plane, or a transform applied
+    /// after the projection. (Any affine model-view keeps them parallel: `row2(P·A) =
+    /// -a·row3(P·A) + b·e3`, shear and non-uniform scale included.)
+    ObliqueOrPostProjection,
+    /// Depth is fine, but the model-view is not rigid or uniformly scaled (shear, non-uniform
+    /// scale), so the focal length `Fx` cannot be read off the product.
+    NonRigidModelView,
+}
+
+impl std::fmt::Display for DepthIssue {
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str(match self {
+            DepthIssue::Degenerate => "degenerate matrix (row 2 or 3 is zero)",
+            DepthIssue::ObliqueOrPostProjection => "oblique near plane or a transform after the projection",
+            DepthIssue::NonRigidModelView => "shear or non-uniform scale in the model-view (focal length unknown)",
+        })
+    }
 }
 
 /// Eye-space depth model of a bare perspective projection: `z_ndc = a + b / (-z_eye)` after
@@ -68,48 +94,66 @@ pub fn classify(m: &[f32; 16]) -> Option<Projection> {
             kind: ProjectionKind::Orthographic,
             depth: None,
             fx: None,
+            issue: None,
         });
     }
     let depth = depth_model(&m);
     let fx = depth.and_then(|_| focal_x(&m));
     Some(Projection {
         kind: ProjectionKind::Perspective,
-        depth,
-        fx,
+        depth: depth.ok(),
+        fx: fx.ok(),
+        issue: fx.err(),
     })
 }
 
 /// `Fx` of P in P·A (A rigid, scale s): row0 = Fx·s·r0 + cx·s·r2 and row3 = -s·r2, so the
 /// part of row0 orthogonal to row3, divided by |row3|, is Fx — exact for off-centre frusta.
-fn focal_x(m: &[f64; 16]) -> Option<f64> {
+/// With A rigid the same holds for row1 with `Fy·s·r1`, and r0 ⊥ r1: parts of row0 and row1
+/// that are not orthogonal give a shear or non-uniform scale away.
+fn focal_x(m: &[f64; 16]) -> Result<f64, DepthIssue> {
     let q = [m[3], m[7], m[11]];
-    let r = [m[0], m[4], m[8]];
     let qq: f64 = q.iter().map(|v| v * v).sum();
-    let along = (r[0] * q[0] + r[1] * q[1] + r[2] * q[2]) / qq;
-    let ortho: f64 = (0..3).map(|i| (r[i] - along * q[i]).powi(2)).sum::<f64>().sqrt();
-    let fx = ortho / qq.sqrt();
-    (fx.is_finite() && fx > 0.0).then_some(fx)
+    let reject = |r: [f64; 3]| {
+        let along = (r[0] * q[0] + r[1] * q[1] + r[2] * q[2]) / qq;
+        [r[0] - along * q[0], r[1] - along * q[1], r[2] - along * q[2]]
+    };
+    let (x, y) = (reject([m[0], m[4], m[8]]), reject([m[1], m[5], m[9]]));
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    if dot(x, y).abs() > 1e-6 * (dot(x, x) * dot(y, y)).sqrt() {
+        return Err(DepthIssue::NonRigidModelView);
+    }
+    let fx = (dot(x, x) / qq).sqrt();
+    if fx.is_finite() && fx > 0.0 {
+        Ok(fx)
+    } else {
+        Err(DepthIssue::Degenerate)
+    }
 }
 
 /// The depth model of a perspective matrix P·A for any rigid (or uniformly scaled) model-view
 /// A: then `row2 = -a·row3 + (0,0,0,b)`, so `z_ndc = -a + b/w` with the clip w the shader
 /// sees. The xyz part of row2 must be parallel to row3's; otherwise (shear, non-uniform
-/// scale) the depth cannot be linearised and `None` is returned.
-fn depth_model(m: &[f64; 16]) -> Option<DepthRange> {
+/// scale) the depth cannot be linearised, and the reason is returned.
+fn depth_model(m: &[f64; 16]) -> Result<DepthRange, DepthIssue> {
     let q = [m[3], m[7], m[11]];
     let r = [m[2], m[6], m[10]];
     let qq: f64 = q.iter().map(|v| v * v).sum();
     let rr: f64 = r.iter().map(|v| v * v).sum();
-    if qq < EPS * EPS || rr == 0.0 {
-        return None;
+    if qq < EPS * EPS || rr == 0.0 || !rr.is_finite() {
+        return Err(DepthIssue::Degenerate);
     }
     let a = -(r[0] * q[0] + r[1] * q[1] + r[2] * q[2]) / qq;
     let residual: f64 = (0..3).map(|i| (r[i] + a * q[i]).powi(2)).sum();
     if residual > 1e-8 * rr {
-        return None;
+        return Err(DepthIssue::ObliqueOrPostProjection);
     }
     let b = m[14] + a * m[15];
-    (a.is_finite() && b.is_finite() && b != 0.0).then_some(DepthRange { a, b })
+    if a.is_finite() && b.is_finite() && b != 0.0 {
+        Ok(DepthRange { a, b })
+    } else {
+        Err(DepthIssue::Degenerate)
+    }
 }
 
 #[cfg(test)]
@@ -203,7 +247,59 @@ mod tests {
         let mut m = perspective(50.0, 1.0, 0.5, 200.0);
         m[2] += 0.3; // row 2 no longer parallel to row 3
         m[3] = 0.2;
-        assert!(classify(&m).unwrap().depth.is_none());
+        let p = classify(&m).unwrap();
+        assert!(p.depth.is_none());
+        assert_eq!(p.issue, Some(DepthIssue::ObliqueOrPostProjection));
+    }
+
+    /// `P·M` column-major, both column-major.
+    fn mul(p: &[f32; 16], m: &[f64; 16]) -> [f32; 16] {
+        let mut out = [0f32; 16];
+        for c in 0..4 {
+            for r in 0..4 {
+                out[c * 4 + r] = (0..4).map(|k| p[k * 4 + r] as f64 * m[c * 4 + k]).sum::<f64>() as f32;
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn non_rigid_model_views_keep_depth_but_report_the_focal_length() {
+        let p = perspective(50.0, 1.0, 0.5, 200.0);
+        let exact = classify(&p).unwrap();
+        let (c, s) = (0.6f64.cos(), 0.6f64.sin());
+        // Model space stretched along y, then rolled: x and y mix. (A stretch along the
+        // camera's own axes is indistinguishable from another projection's Fx/Fy.)
+        #[rustfmt::skip]
+        let roll_after_stretch = [c, s, 0.0, 0.0,  -2.0 * s, 2.0 * c, 0.0, 0.0,  0.0, 0.0, 1.0, 0.0,  4.0, -1.0, -30.0, 1.0];
+        #[rustfmt::skip]
+        let shear = [1.0, 0.0, 0.0, 0.0,  0.7, 1.0, 0.0, 0.0,  0.0, 0.0, 1.0, 0.0,  0.0, 0.0, -20.0, 1.0];
+        for m in [roll_after_stretch, shear] {
+            let got = classify(&mul(&p, &m)).unwrap();
+            let (d, e) = (got.depth.unwrap(), exact.depth.unwrap());
+            assert!(
+                (d.a - e.a).abs() < 1e-5 && (d.b - e.b).abs() < 1e-5 * e.b.abs(),
+                "{d:?} vs {e:?}"
+            );
+            assert_eq!(got.issue, Some(DepthIssue::NonRigidModelView));
+            assert_eq!(got.fx, None);
+        }
+        #[rustfmt::skip]
+        let rigid = [c, 0.0, -s, 0.0,  0.0, 1.0, 0.0, 0.0,  s, 0.0, c, 0.0,  4.0, -1.0, -30.0, 1.0];
+        let got = classify(&mul(&p, &rigid)).unwrap();
+        assert_eq!(got.issue, None);
+        assert!((got.fx.unwrap() - exact.fx.unwrap()).abs() < 1e-5);
+    }
+
+    #[test]
+    fn degenerate_matrices_are_reported() {
+        let p = perspective(50.0, 1.0, 0.5, 200.0);
+        let mut flat = p;
+        (0..4).for_each(|c| flat[c * 4 + 2] = 0.0);
+        assert_eq!(classify(&flat).unwrap().issue, Some(DepthIssue::Degenerate));
+        let mut nan_row2 = p;
+        nan_row2[10] = f32::INFINITY;
+        assert_eq!(classify(&nan_row2).unwrap().issue, Some(DepthIssue::Degenerate));
     }
 
     #[test]

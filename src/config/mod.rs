@@ -7,6 +7,7 @@ pub mod cli;
 pub mod device;
 pub mod options;
 pub mod parse;
+pub mod preset;
 #[cfg(test)]
 mod tests_mutations;
 
@@ -134,15 +135,37 @@ impl Settings {
     /// Builds settings from a variable lookup; every bad value is reported (one line naming
     /// the variable) and replaced by its default, so the app keeps running.
     pub fn from_lookup(get: impl Fn(&str) -> Option<String>, report: &mut dyn FnMut(String)) -> Settings {
+        Settings::from_sources(get, None, report)
+    }
+
+    /// As [`Settings::from_lookup`], with a preset's values under the variables (its values
+    /// were checked when it was read).
+    pub fn from_sources(
+        get: impl Fn(&str) -> Option<String>,
+        preset: Option<&preset::Preset>,
+        report: &mut dyn FnMut(String),
+    ) -> Settings {
         let mut s = Settings::default();
         let (mut quilt, mut tile, mut output) = (None, None, None);
-        for opt in options::OPTIONS.iter().filter(|o| !o.launcher_only) {
+        // The preset itself was chosen (and any problem with it reported) by the caller.
+        for opt in options::OPTIONS
+            .iter()
+            .filter(|o| !o.launcher_only && o.long != "preset")
+        {
             let var = opt.env_name();
-            let Some(value) = get(&var) else { continue };
-            if let Err(e) = (opt.check)(&value) {
-                report(format!("{var}={value}: {e}; ignored"));
-                continue;
-            }
+            let value = match get(&var) {
+                Some(value) => {
+                    if let Err(e) = (opt.check)(&value) {
+                        report(format!("{var}={value}: {e}; ignored"));
+                        continue;
+                    }
+                    value
+                }
+                None => match preset.and_then(|p| p.get(opt.long)) {
+                    Some(value) => value.to_string(),
+                    None => continue,
+                },
+            };
             match opt.long {
                 "dump" => s.dump_dir = Some(PathBuf::from(value)),
                 "dump-frames" => s.dump_frames = parse::frames(&value).unwrap_or(FrameSet::Every(1)),
@@ -177,12 +200,23 @@ impl Settings {
 
 static SETTINGS: OnceLock<Settings> = OnceLock::new();
 
-/// The process's settings, read from the environment once.
+/// The process's settings, read once: the preset for this program (or `HOLOINJECT_PRESET`)
+/// under the environment.
 pub fn settings() -> &'static Settings {
     SETTINGS.get_or_init(|| {
-        Settings::from_lookup(|k| std::env::var(k).ok(), &mut |msg| {
-            crate::log::error(format_args!("{msg}"))
-        })
+        let env = |k: &str| std::env::var(k).ok();
+        let mut report = |msg: String| crate::log::error(format_args!("{msg}"));
+        let chosen = preset::for_process(&env, &mut report);
+        if let Some(c) = &chosen {
+            let set: Vec<String> = c.preset.values.iter().map(|(k, v)| format!("{k}={v}")).collect();
+            crate::log::info(format_args!(
+                "preset {} (by {}): {}",
+                c.preset.source,
+                c.reason,
+                set.join(" ")
+            ));
+        }
+        Settings::from_sources(env, chosen.as_ref().map(|c| &c.preset), &mut report)
     })
 }
 
@@ -218,6 +252,19 @@ mod tests {
         assert_eq!(errors.len(), 2);
         assert!(errors.iter().any(|e| e.starts_with("HOLOINJECT_QUILT=8by6")));
         assert!(errors.iter().any(|e| e.starts_with("HOLOINJECT_EXIT_AFTER=soon")));
+    }
+
+    #[test]
+    fn the_environment_wins_over_a_preset() {
+        let (p, skipped) = preset::parse("quilt = \"5x9\"\nconvergence = 40\nfocus = 0.02\n", "t.toml").unwrap();
+        assert!(skipped.is_empty());
+        let env: HashMap<String, String> = [("HOLOINJECT_QUILT".to_string(), "3x3".to_string())].into();
+        let mut errors = vec![];
+        let s = Settings::from_sources(|k| env.get(k).cloned(), Some(&p), &mut |e| errors.push(e));
+        assert!(errors.is_empty(), "{errors:?}");
+        assert_eq!(s.view.quilt, (3, 3));
+        assert_eq!(s.view.convergence, Convergence::Fixed(40.0));
+        assert_eq!(s.view.focus, 0.02);
     }
 
     #[test]

@@ -20,9 +20,6 @@ impl OptDef {
     }
 }
 
-/// Features that arrive with later issues are refused, not ignored.
-const PLANNED: &str = "not available in this build yet";
-
 type Check = fn(&str) -> Result<(), String>;
 
 const fn opt(long: &'static str, value: &'static str, help: &'static str, check: Check) -> OptDef {
@@ -45,7 +42,8 @@ pub static OPTIONS: &[OptDef] = &[
         |v| super::device::load(v).map(|_| ())),
     opt("weave-filter", "nearest|blend|gaussian:S", "how native output mixes views between lenticules (default blend)",
         |v| super::parse::weave_filter(v).map(|_| ())),
-    opt("preset", "NAME|PATH", "application preset (TOML)", |_| Err(PLANNED.into())),
+    opt("preset", "NAME|PATH|none", "per-application preset (TOML): a name in presets/ or ~/.config/holoinject/presets/, a file, or none; default: chosen by the program's name",
+        |v| super::preset::load_spec(v, &|k| std::env::var(k).ok()).map(|_| ())),
     opt("mode", "exact|synth|hybrid:K|auto", "how views are made: exact re-renders every view (default)", super::parse::mode),
     opt("output", "native|quilt|sbs|anaglyph|mono", "what is presented at swap (default: native with --device, else quilt)",
         |v| super::parse::output(v).map(|_| ())),

@@ -50,6 +50,13 @@ fn fixed_function_projection(gl: &Gl) -> Option<[f32; 16]> {
     Some(p)
 }
 
+fn program_name(program: u32) -> String {
+    match program {
+        0 => "fixed function".to_string(),
+        p => format!("program {p}"),
+    }
+}
+
 fn mode_of(matrix: Option<[f32; 16]>, mv: &mut Multiview) -> Mode {
     match matrix.and_then(|m| projection::classify(&m)) {
         Some(p) if p.kind == ProjectionKind::Orthographic => Mode::Orthographic,
@@ -58,13 +65,46 @@ fn mode_of(matrix: Option<[f32; 16]>, mv: &mut Multiview) -> Mode {
             if m[3] == 0.0 && m[7] == 0.0 && m[15] == 0.0 && m[11] < 0.0 {
                 mv.camera_projection = Some(m);
             }
-            if p.depth.is_some() {
+            if let Some(d) = p.depth {
+                if mv.last_depth.is_none() {
+                    let far = if d.far().is_finite() {
+                        format!("{:.6}", d.far())
+                    } else {
+                        "infinite".into()
+                    };
+                    crate::log::info(format_args!(
+                        "{}: perspective projection, near {:.6}, far {far}{}",
+                        program_name(mv.program),
+                        d.near(),
+                        if d.a > 0.0 { " (reversed-Z)" } else { "" }
+                    ));
+                }
                 mv.last_depth = p.depth;
                 mv.last_fx = p.fx.or(mv.last_fx);
+            } else if let Some(issue) = p.issue {
+                crate::log::once_for(
+                    ("depth-issue", u64::from(mv.program)),
+                    crate::log::Level::Info,
+                    format_args!(
+                        "{}: its projection has a {issue}: its depth is not linearised \
+                         (the shift stays exact; auto-convergence and --view-cone use the last good projection)",
+                        program_name(mv.program)
+                    ),
+                );
             }
             Mode::Perspective
         }
-        None => Mode::Unknown,
+        None => {
+            crate::log::once_for(
+                ("unknown-projection", u64::from(mv.program)),
+                crate::log::Level::Debug,
+                format_args!(
+                    "{}: projection unknown or not finite; w == 1 vertices are left unshifted",
+                    program_name(mv.program)
+                ),
+            );
+            Mode::Unknown
+        }
     }
 }
 

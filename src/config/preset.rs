@@ -1,0 +1,356 @@
+//! Per-application presets: a TOML file of option values (the launcher's long names without
+//! `--`), chosen by the program's executable name or by `--preset NAME|PATH`.
+//!
+//! ```toml
+//! # presets/glxgears.toml
+//! match = ["glxgears"]        # executables it applies to (its file name is always one)
+//! convergence = 40            # any option of `holoinject run --help`, same value syntax
+//! view-cone = 35
+//! ```
+//!
+//! Layering (DESIGN §2): defaults → device → preset → environment (`HOLOINJECT_*`) → CLI (the
+//! launcher sets the environment). A preset's own bad fields are reported one line each,
+//! naming the file and field, and skipped; a file that is not TOML is reported and skipped
+//! whole. The program keeps running either way.
+
+use super::options::{self, OptDef};
+use std::path::{Path, PathBuf};
+
+/// Options a preset may not set: choosing a preset, and launcher-only flags.
+const NOT_IN_PRESETS: &[&str] = &["preset", "log", "dry-run"];
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Preset {
+    /// Where it came from, as shown in messages: `presets/glxgears.toml` or the user's path.
+    pub source: String,
+    /// Executable names it applies to.
+    pub matches: Vec<String>,
+    /// `(option long name, value)` in file order, every value already checked.
+    pub values: Vec<(String, String)>,
+}
+
+impl Preset {
+    pub fn get(&self, long: &str) -> Option<&str> {
+        self.values.iter().find(|(k, _)| k == long).map(|(_, v)| v.as_str())
+    }
+}
+
+macro_rules! bundled {
+    ($($name:literal),* $(,)?) => {
+        &[$(($name, include_str!(concat!("../../presets/", $name, ".toml")))),*]
+    };
+}
+
+/// Embedded so the layer needs no files at run time; tested programs only.
+const BUNDLED: &[(&str, &str)] = bundled!["glxgears", "es2gears", "glmark2", "chromium-bsu"];
+
+pub fn bundled_names() -> Vec<&'static str> {
+    BUNDLED.iter().map(|(n, _)| *n).collect()
+}
+
+/// Parses a preset file. `Err` is one line for a file that cannot be used at all; `Ok` comes
+/// with one line per field that was skipped.
+pub fn parse(text: &str, source: &str) -> Result<(Preset, Vec<String>), String> {
+    let table: toml::Table = text.parse().map_err(|e: toml::de::Error| {
+        let msg = e.message().trim().replace('\n', "; ");
+        let at = e
+            .span()
+            .map(|s| line_of(text, s.start))
+            .map_or(String::new(), |l| format!(" (line {l})"));
+        format!("{source}{at}: not valid TOML: {msg}; preset ignored")
+    })?;
+    let mut preset = Preset {
+        source: source.to_string(),
+        matches: vec![],
+        values: vec![],
+    };
+    let mut skipped = vec![];
+    for (key, value) in &table {
+        if key == "match" {
+            match value
+                .as_array()
+                .map(|a| a.iter().map(|v| v.as_str().map(str::to_string)).collect())
+            {
+                Some(Some(names)) => preset.matches = names,
+                _ => skipped.push(format!(
+                    "{source}: field \"match\": expected a list of executable names, e.g. [\"glxgears\"]; ignored"
+                )),
+            }
+            continue;
+        }
+        match field(key, value) {
+            Ok(v) => preset.values.push((key.clone(), v)),
+            Err(e) => skipped.push(format!("{source}: field \"{key}\": {e}; ignored")),
+        }
+    }
+    Ok((preset, skipped))
+}
+
+fn field(key: &str, value: &toml::Value) -> Result<String, String> {
+    let opt: &OptDef = options::find(key)
+        .filter(|o| !NOT_IN_PRESETS.contains(&o.long))
+        .ok_or_else(|| format!("unknown option (expected one of: {})", preset_keys().join(", ")))?;
+    let text = match value {
+        toml::Value::String(s) => s.clone(),
+        toml::Value::Integer(i) => i.to_string(),
+        toml::Value::Float(f) => f.to_string(),
+        toml::Value::Boolean(b) => b.to_string(),
+        _ => return Err("expected a string or a number".into()),
+    };
+    (opt.check)(&text)?;
+    Ok(text)
+}
+
+/// Option names a preset may set (and `match`).
+pub fn preset_keys() -> Vec<&'static str> {
+    std::iter::once("match")
+        .chain(
+            options::OPTIONS
+                .iter()
+                .filter(|o| !o.launcher_only && !NOT_IN_PRESETS.contains(&o.long))
+                .map(|o| o.long),
+        )
+        .collect()
+}
+
+fn line_of(text: &str, offset: usize) -> usize {
+    text.as_bytes()[..offset.min(text.len())]
+        .iter()
+        .filter(|&&b| b == b'\n')
+        .count()
+        + 1
+}
+
+/// The user's preset folder: `$XDG_CONFIG_HOME/holoinject/presets`, else
+/// `~/.config/holoinject/presets`. Its files win over bundled ones of the same name.
+pub fn user_dir(env: &dyn Fn(&str) -> Option<String>) -> Option<PathBuf> {
+    let base = env("XDG_CONFIG_HOME")
+        .filter(|d| d.starts_with('/'))
+        .map(PathBuf::from)
+        .or_else(|| {
+            env("HOME")
+                .filter(|h| h.starts_with('/'))
+                .map(|h| Path::new(&h).join(".config"))
+        })?;
+    Some(base.join("holoinject/presets"))
+}
+
+/// Every preset that could apply, as `(name, source, text)`: the user's first, then bundled.
+fn candidates(env: &dyn Fn(&str) -> Option<String>) -> Vec<(String, String, String)> {
+    let mut out = vec![];
+    if let Some(dir) = user_dir(env) {
+        let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+            .map(|rd| rd.filter_map(|e| e.ok().map(|e| e.path())).collect())
+            .unwrap_or_default();
+        files.sort();
+        for path in files.into_iter().filter(|p| p.extension().is_some_and(|e| e == "toml")) {
+            if let (Some(stem), Ok(text)) = (
+                path.file_stem().and_then(|s| s.to_str()),
+                std::fs::read_to_string(&path),
+            ) {
+                out.push((stem.to_string(), path.display().to_string(), text));
+            }
+        }
+    }
+    for (name, text) in BUNDLED {
+        out.push((name.to_string(), format!("presets/{name}.toml"), text.to_string()));
+    }
+    out
+}
+
+/// What was chosen, for messages.
+#[derive(Debug, PartialEq)]
+pub struct Chosen {
+    pub preset: Preset,
+    /// Skipped fields (one line each).
+    pub skipped: Vec<String>,
+    /// Why this one: `--preset`, or the executable name that matched.
+    pub reason: String,
+}
+
+/// `--preset NAME|PATH` (`none` turns automatic selection off): a path when it contains '/'
+/// or ends in `.toml`, else a user or bundled preset of that name.
+pub fn load_spec(spec: &str, env: &dyn Fn(&str) -> Option<String>) -> Result<Option<Chosen>, String> {
+    let spec = spec.trim();
+    if spec == "none" {
+        return Ok(None);
+    }
+    let reason = format!("--preset {spec}");
+    if spec.contains('/') || spec.ends_with(".toml") {
+        let text = std::fs::read_to_string(spec).map_err(|e| format!("preset {spec}: {e}"))?;
+        let (preset, skipped) = parse(&text, spec)?;
+        return Ok(Some(Chosen {
+            preset,
+            skipped,
+            reason,
+        }));
+    }
+    let all = candidates(env);
+    let Some((_, source, text)) = all.iter().find(|(name, _, _)| name == spec) else {
+        let mut known: Vec<&str> = all.iter().map(|(n, _, _)| n.as_str()).collect();
+        known.dedup();
+        return Err(format!(
+            "unknown preset \"{spec}\" (known: {}; or a path to a .toml file)",
+            known.join(", ")
+        ));
+    };
+    let (preset, skipped) = parse(text, source)?;
+    Ok(Some(Chosen {
+        preset,
+        skipped,
+        reason,
+    }))
+}
+
+/// The preset for a program run as one of `exe_names`: a preset named like the executable,
+/// else one whose `match` lists it; the user's before bundled ones. A matching file that is
+/// not valid TOML is an `Err` (reported; no preset applies).
+pub fn for_program(exe_names: &[String], env: &dyn Fn(&str) -> Option<String>) -> Result<Option<Chosen>, String> {
+    let names: Vec<&str> = exe_names.iter().map(|n| n.as_str()).filter(|n| !n.is_empty()).collect();
+    let all = candidates(env);
+    let by_name = all.iter().find(|(stem, _, _)| names.contains(&stem.as_str()));
+    let found = match by_name {
+        Some(c) => Some((c, parse(&c.2, &c.1)?, c.0.clone())),
+        None => all.iter().find_map(|c| match parse(&c.2, &c.1) {
+            Ok(parsed) => {
+                let hit = parsed.0.matches.iter().find(|m| names.contains(&m.as_str()))?.clone();
+                Some((c, parsed, hit))
+            }
+            Err(_) => None,
+        }),
+    };
+    Ok(found.map(|(_, (preset, skipped), exe)| Chosen {
+        preset,
+        skipped,
+        reason: format!("program name {exe}"),
+    }))
+}
+
+/// The names this process may be known by: its executable's and `argv[0]`'s file names.
+pub fn process_names() -> Vec<String> {
+    let mut names = vec![];
+    if let Ok(exe) = std::fs::read_link("/proc/self/exe") {
+        names.extend(exe.file_name().and_then(|n| n.to_str()).map(str::to_string));
+    }
+    if let Ok(cmdline) = std::fs::read("/proc/self/cmdline") {
+        let argv0 = cmdline.split(|&b| b == 0).next().unwrap_or_default();
+        let base = Path::new(std::str::from_utf8(argv0).unwrap_or_default())
+            .file_name()
+            .and_then(|n| n.to_str())
+            .map(str::to_string);
+        names.extend(base.filter(|b| !names.contains(b)));
+    }
+    names
+}
+
+/// The preset for this process: `HOLOINJECT_PRESET`, else by executable name. Problems are
+/// reported through `report` (one line each), and what could not be used is left out.
+pub fn for_process(env: &dyn Fn(&str) -> Option<String>, report: &mut dyn FnMut(String)) -> Option<Chosen> {
+    let chosen = match env("HOLOINJECT_PRESET") {
+        Some(spec) => load_spec(&spec, env).map_err(|e| format!("HOLOINJECT_PRESET={spec}: {e}")),
+        None => for_program(&process_names(), env),
+    };
+    match chosen {
+        Ok(c) => {
+            if let Some(c) = &c {
+                c.skipped.iter().for_each(|s| report(s.clone()));
+            }
+            c
+        }
+        Err(e) => {
+            report(e);
+            None
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn no_env(_: &str) -> Option<String> {
+        None
+    }
+
+    #[test]
+    fn every_bundled_preset_parses_cleanly_and_matches_its_name() {
+        for (name, text) in BUNDLED {
+            let (p, skipped) = parse(text, name).unwrap();
+            assert!(skipped.is_empty(), "{name}: {skipped:?}");
+            assert!(!p.values.is_empty(), "{name} sets nothing");
+            let chosen = for_program(&[name.to_string()], &no_env).unwrap().unwrap();
+            assert_eq!(chosen.preset.source, format!("presets/{name}.toml"));
+        }
+    }
+
+    #[test]
+    fn match_lists_select_by_other_executable_names() {
+        let c = for_program(&["glmark2-es2".into()], &no_env).unwrap().unwrap();
+        assert_eq!(c.preset.source, "presets/glmark2.toml");
+        assert_eq!(c.reason, "program name glmark2-es2");
+        assert_eq!(for_program(&["bash".into()], &no_env).unwrap(), None);
+    }
+
+    #[test]
+    fn bad_fields_are_named_and_skipped() {
+        let text = "quilt = \"0x0\"\ndepthines = 0.1\nview-cone = 200\ntile = \"100000x10\"\nfocus = 0.01\nmatch = 3\nlog = \"debug\"\ndevice = [1]\n";
+        let (p, skipped) = parse(text, "my.toml").unwrap();
+        assert_eq!(p.values, vec![("focus".to_string(), "0.01".to_string())]);
+        assert_eq!(skipped.len(), 7, "{skipped:#?}");
+        for (field, what) in [
+            ("quilt", "1..=16384"),
+            ("depthines", "unknown option"),
+            ("view-cone", "(0, 180)"),
+            ("tile", "1..=16384"),
+            ("match", "list of executable names"),
+            ("log", "unknown option"),
+            ("device", "string or a number"),
+        ] {
+            let line = skipped
+                .iter()
+                .find(|s| s.contains(&format!("field \"{field}\"")))
+                .unwrap();
+            assert!(
+                line.starts_with("my.toml: ") && line.contains(what) && !line.contains('\n'),
+                "{line}"
+            );
+        }
+    }
+
+    #[test]
+    fn malformed_toml_is_one_line_with_the_file_and_line() {
+        let e = parse("quilt = \"5x9\"\ndepthiness = = 3\n", "presets/x.toml").unwrap_err();
+        assert!(
+            e.starts_with("presets/x.toml (line 2): not valid TOML") && !e.contains('\n'),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn user_presets_win_and_explicit_specs_resolve() {
+        let dir = std::env::temp_dir().join(format!("holoinject-preset-test-{}", std::process::id()));
+        let presets = dir.join("holoinject/presets");
+        std::fs::create_dir_all(&presets).unwrap();
+        std::fs::write(presets.join("glxgears.toml"), "quilt = \"3x3\"\n").unwrap();
+        std::fs::write(presets.join("broken.toml"), "quilt = [\n").unwrap();
+        let d = dir.display().to_string();
+        let env = move |k: &str| (k == "XDG_CONFIG_HOME").then(|| d.clone());
+        let c = for_program(&["glxgears".into()], &env).unwrap().unwrap();
+        assert_eq!(c.preset.get("quilt"), Some("3x3"));
+        assert!(c.preset.source.ends_with("holoinject/presets/glxgears.toml"));
+        assert!(load_spec("broken", &env).unwrap_err().contains("not valid TOML"));
+        assert!(load_spec("nope", &env).unwrap_err().contains("unknown preset \"nope\""));
+        assert_eq!(load_spec("none", &env).unwrap(), None);
+        let path = presets.join("glxgears.toml").display().to_string();
+        assert_eq!(
+            load_spec(&path, &env).unwrap().unwrap().preset.get("quilt"),
+            Some("3x3")
+        );
+        assert!(
+            load_spec("/nonexistent/p.toml", &env)
+                .unwrap_err()
+                .starts_with("preset /nonexistent/p.toml: ")
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
