@@ -161,3 +161,74 @@ fn two_threads_sharing_a_texture() {
         assert_identical(&p, &dir.join(format!("injected-{side}.png")));
     }
 }
+
+/// The `objects …` line `churn` prints: the shared GL objects alive in its share group
+/// after its contexts were destroyed. Also checks the plain or injected run left the
+/// screenshot of its last frame at `shot`.
+fn churn_objects(layer: &[&str], cycles: u32, extra: &[&str], shot: &std::path::Path) -> String {
+    let churn = app("churn");
+    let cycles = cycles.to_string();
+    let mut args = vec![
+        "--size",
+        "160x120",
+        "--cycles",
+        &cycles,
+        "--screenshot",
+        shot.to_str().unwrap(),
+    ];
+    args.extend(extra);
+    let out = if layer.is_empty() {
+        run(&churn, &args, &[])
+    } else {
+        let mut injected = vec!["run"];
+        injected.extend(layer);
+        injected.extend(["--", churn.to_str().unwrap()]);
+        injected.extend(args);
+        run(&launcher(), &injected, &[])
+    };
+    assert_success(&out, &format!("churn {layer:?} --cycles {cycles} {extra:?}"));
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(
+        stdout.starts_with("objects ") && stdout.lines().count() == 1,
+        "{stdout}"
+    );
+    stdout.trim_end().to_string()
+}
+
+/// Contexts destroyed and re-created in one share group, a root context alive throughout:
+/// the quilt, layered shadows (arrays and texture views) and pass programs the layer made in
+/// each destroyed context are shared objects that outlive it, so they must be freed by the
+/// share group. The shared objects left at the end are the app's own, for any cycle count;
+/// and the re-created contexts' centre view is still the plain image.
+#[test]
+fn destroyed_contexts_leave_no_layer_objects_in_the_share_group() {
+    let dir = temp_dir("context_churn");
+    let quilt = ["--quilt", "3x3"];
+    let anaglyph = ["--quilt", "3x3", "--output", "anaglyph"];
+    let variants: [(&str, &[&str], &[&str]); 4] = [
+        ("quilt", &quilt, &[]),
+        ("quilt-handover", &quilt, &["--hand-over-target"]),
+        ("quilt-destroy-current", &quilt, &["--destroy-current"]),
+        ("anaglyph", &anaglyph, &[]),
+    ];
+    for (name, layer, extra) in variants {
+        let mut counts = Vec::new();
+        for cycles in [2, 6] {
+            let (plain, injected) = (
+                dir.join(format!("{name}-{cycles}-plain.png")),
+                dir.join(format!("{name}-{cycles}-injected.png")),
+            );
+            let p = churn_objects(&[], cycles, extra, &plain);
+            let i = churn_objects(layer, cycles, extra, &injected);
+            println!("churn {name} --cycles {cycles}: plain `{p}`, injected `{i}`");
+            if !layer.contains(&"anaglyph") {
+                assert_identical(&plain, &injected);
+            }
+            counts.push((p, i));
+        }
+        let ((p2, i2), (p6, i6)) = (&counts[0], &counts[1]);
+        assert_eq!(p2, p6, "{name}: the plain app's count depends on the cycles");
+        assert_eq!(i2, i6, "{name}: layer objects pile up with every destroyed context");
+        assert_eq!(i6, p6, "{name}: the layer left objects of its own in the share group");
+    }
+}

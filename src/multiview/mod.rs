@@ -172,6 +172,24 @@ impl Multiview {
         self.target.as_ref().map(|t| t.layout)
     }
 
+    /// What of ours outlives this context in its share group: every texture, renderbuffer,
+    /// program and display list (framebuffers and vertex arrays are per context).
+    pub fn shared_objects(&self) -> crate::state::orphans::LayerObjects {
+        let mut o = crate::state::orphans::LayerObjects::default();
+        if let Some(t) = &self.target {
+            o.textures.push(t.color);
+            o.renderbuffers.push(t.depth);
+        }
+        for a in self.shadows.values().flat_map(|s| &s.attachments) {
+            o.textures.push(a.array);
+            o.textures.extend(&a.layer_views);
+        }
+        o.textures.extend(self.native.as_ref().map(|n| n.color));
+        o.programs.extend(self.passes.programs());
+        o.lists.push(self.immediate_list);
+        o.without_zeros()
+    }
+
     /// The quilt's framebuffer name while it stands in for framebuffer 0.
     pub fn quilt_fbo(&self) -> Option<u32> {
         self.target.as_ref().filter(|_| !self.failed).map(|t| t.fbo)
@@ -213,6 +231,13 @@ pub fn on_make_current(cur: &Current) {
     if !(info.es && info.at_least(3, 0) || !info.es && info.at_least(3, 0)) {
         crate::log::warn(format_args!(
             "context {:#x}: GL {info:?} has no framebuffer objects; multiview off",
+            cur.ctx.handle
+        ));
+        return;
+    }
+    if cur.binding.draw == 0 {
+        crate::log::info(format_args!(
+            "context {:#x}: current without a surface; no multiview until it has one",
             cur.ctx.handle
         ));
         return;

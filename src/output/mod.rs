@@ -22,6 +22,7 @@ static DUMP_FAILED: AtomicBool = AtomicBool::new(false);
 pub fn frame_boundary(surface: usize, present: impl FnOnce()) {
     let frame = FRAME.fetch_add(1, Ordering::Relaxed) + 1;
     let settings = crate::config::settings();
+    crate::state::delete_orphans();
     timing::tick(frame);
     if settings.multiview() {
         multiview_frame(frame, surface, settings);

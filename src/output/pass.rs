@@ -88,6 +88,11 @@ impl Passes {
         p
     }
 
+    /// The programs linked so far (shared objects; the vertex array is per context).
+    pub fn programs(&self) -> impl Iterator<Item = u32> + '_ {
+        self.programs.iter().filter_map(|(_, p)| p.as_ref().ok().copied())
+    }
+
     /// Draws the full-screen triangle with `program` bound (uniforms already set).
     pub fn draw(&self, gl: &Gl) {
         // SAFETY: our vertex array and a 3-vertex, attribute-less draw.

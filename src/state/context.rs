@@ -124,6 +124,29 @@ impl Context {
     }
 }
 
+impl Drop for Context {
+    /// The layer's last reference goes once the context is destroyed and current nowhere:
+    /// the objects the layer made in it that its share group keeps are handed to the group
+    /// (see `orphans`), unless this was the group's last context.
+    fn drop(&mut self) {
+        let mv = self.mv.get_mut().unwrap_or_else(|e| e.into_inner()).take();
+        let objects = mv.map(|mv| mv.shared_objects()).unwrap_or_default();
+        if objects.count() == 0 {
+            return;
+        }
+        if Arc::strong_count(&self.group) == 1 {
+            crate::log::debug(format_args!(
+                "context {:#x}: {} layer objects freed with share group {}, whose last context it was",
+                self.handle,
+                objects.count(),
+                self.group.id
+            ));
+            return;
+        }
+        self.group.adopt(self.handle, objects);
+    }
+}
+
 fn version_string(gl: &Gl) -> Option<String> {
     // SAFETY: the context is current on this thread (we are inside make-current).
     let p = unsafe { gl.GetString(crate::gl::VERSION) };

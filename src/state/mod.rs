@@ -7,6 +7,7 @@
 //! own.
 
 mod context;
+pub mod orphans;
 pub mod share;
 
 pub use context::{Binding, Context, GlInfo, Platform};
@@ -70,29 +71,48 @@ fn lookup_or_adopt(platform: Platform, handle: usize, display: usize) -> Arc<Con
 
 /// `handle == 0` releases the thread's context.
 pub fn make_current(platform: Platform, handle: usize, binding: Binding) {
+    // The previous context is current here no more: if it was destroyed meanwhile, this is
+    // the layer's last reference and its objects go to its share group now, in time to be
+    // deleted below when the new context shares them.
+    let previous = CURRENT.with(|c| c.borrow_mut().take());
+    drop(previous);
     if handle == 0 {
-        CURRENT.with(|c| c.borrow_mut().take());
         return;
     }
     crate::log::announce();
     let ctx = lookup_or_adopt(platform, handle, binding.display);
     ctx.on_made_current();
+    if let Some((gl, _)) = ctx.gl() {
+        ctx.group.delete_orphans(gl);
+    }
     let cur = Current { ctx, binding };
     crate::multiview::on_make_current(&cur);
     CURRENT.with(|c| *c.borrow_mut() = Some(cur));
 }
 
 pub fn context_destroyed(platform: Platform, handle: usize) {
-    let alive = {
+    let (removed, alive) = {
         let mut reg = registry();
         let map = reg.get_or_insert_with(HashMap::new);
-        map.remove(&(platform, handle));
-        map.len()
+        (map.remove(&(platform, handle)), map.len())
     };
-    // A context destroyed while current stays alive until released (GLX/EGL semantics).
     crate::log::info(format_args!(
         "{platform:?} context {handle:#x} destroyed ({alive} tracked)"
     ));
+    // A context destroyed while current stays alive until released (GLX/EGL semantics): a
+    // thread that has it current keeps a reference, and the last one hands its objects over.
+    drop(removed);
+}
+
+/// Deletes what destroyed contexts left in the share group of the calling thread's current
+/// context (at frame boundaries: a root context may stay current for good).
+pub fn delete_orphans() {
+    with_current(|cur| {
+        let Some(cur) = cur else { return };
+        if let Some((gl, _)) = cur.ctx.gl() {
+            cur.ctx.group.delete_orphans(gl);
+        }
+    });
 }
 
 pub fn display_terminated(platform: Platform, display: usize) {

@@ -1,8 +1,10 @@
 //! Objects shared by every context of a share group: programs (with what the layer learned
-//! about them at link time), the app's sources of shaders we rewrote, and the tracked values
-//! of matrix uniforms.
+//! about them at link time), the app's sources of shaders we rewrote, the tracked values
+//! of matrix uniforms, and the layer objects destroyed contexts left behind (see `orphans`).
 
+use super::orphans::LayerObjects;
 use std::collections::HashMap;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Mutex, MutexGuard};
 
 /// What the layer knows about one linked program.
@@ -40,17 +42,54 @@ pub struct GroupState {
 pub struct ShareGroup {
     pub id: u64,
     state: Mutex<GroupState>,
+    orphans: Mutex<LayerObjects>,
+    /// `orphans` is not empty (checked without locking at every make-current and swap).
+    has_orphans: AtomicBool,
 }
 
 impl ShareGroup {
     pub fn new(id: u64) -> ShareGroup {
         ShareGroup {
             id,
-            state: Mutex::default(),
+            ..Default::default()
         }
     }
 
     pub fn lock(&self) -> MutexGuard<'_, GroupState> {
         self.state.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// Takes the layer objects of destroyed context `handle`, to be deleted by the next
+    /// context of the group that is current.
+    pub fn adopt(&self, handle: usize, objects: LayerObjects) {
+        let n = objects.count();
+        self.orphans.lock().unwrap_or_else(|e| e.into_inner()).append(objects);
+        self.has_orphans.store(true, Ordering::Release);
+        crate::log::debug(format_args!(
+            "context {handle:#x}: {n} layer objects handed to share group {} for deletion",
+            self.id
+        ));
+    }
+
+    /// Deletes what destroyed contexts left, with `gl` of a context of this group current on
+    /// the calling thread.
+    pub fn delete_orphans(&self, gl: &crate::gl::Gl) {
+        if !self.has_orphans.load(Ordering::Acquire) {
+            return;
+        }
+        let objects = {
+            let mut orphans = self.orphans.lock().unwrap_or_else(|e| e.into_inner());
+            self.has_orphans.store(false, Ordering::Release);
+            std::mem::take(&mut *orphans)
+        };
+        if objects.count() == 0 {
+            return;
+        }
+        objects.delete(gl);
+        crate::log::debug(format_args!(
+            "share group {}: {} layer objects of destroyed contexts deleted",
+            self.id,
+            objects.count()
+        ));
     }
 }

@@ -302,6 +302,22 @@ impl HeadlessDisplay {
         Ok(())
     }
 
+    /// Makes `ctx` current with no surface at all (EGL_KHR_surfaceless_context, which
+    /// the surfaceless platform always has): a resource-loading context with no
+    /// framebuffer 0 (`churn`'s root context).
+    pub fn make_current_surfaceless(&self, ctx: Handle) -> Result<(), String> {
+        let (api, _, api_name) = api_for(self.profile);
+        unsafe {
+            if (self.api.bind_api)(api) == 0 {
+                return Err(self.api.err(&format!("eglBindAPI({api_name})")));
+            }
+            if (self.api.make_current)(self.dpy, ptr::null_mut(), ptr::null_mut(), ctx.0) == 0 {
+                return Err(self.api.err("eglMakeCurrent(EGL_NO_SURFACE)"));
+            }
+        }
+        Ok(())
+    }
+
     pub fn swap_buffers(&self, surface: Handle) -> Result<(), String> {
         if unsafe { (self.api.swap_buffers)(self.dpy, surface.0) } == 0 {
             return Err(self.api.err("eglSwapBuffers"));
