@@ -39,6 +39,10 @@ pub struct Options {
     pub size: (u32, u32),
     pub frames: u64,
     pub screenshot: Option<PathBuf>,
+    /// Raw f32 depth of the last frame's default framebuffer (desktop GL only).
+    pub depth_out: Option<PathBuf>,
+    /// Raw f32 depth of the whole reference quilt (with --reference-quilt; desktop GL only).
+    pub reference_depth_out: Option<PathBuf>,
     pub quilt: Option<(u32, u32)>,
     pub tile: (u32, u32),
     pub depthiness: f32,
@@ -89,12 +93,16 @@ pub fn usage(app: &AppInfo) -> String {
          --size WxH             window / framebuffer size (default 640x480)\n\
          --frames N             render N frames then exit (default 0 = until killed)\n\
          --screenshot PATH      PNG of the last frame's default framebuffer\n\
+         --depth-out PATH       raw little-endian f32 depth of the last frame's default\n\
+                                framebuffer (w*h, rows bottom-up; desktop GL only)\n\
          --reference-quilt CxR  also render a CxR reference quilt of the last frame\n\
          --tile WxH             quilt tile size (default = --size)\n\
          --depthiness S         shear strength (default 0.1)\n\
          --convergence C        eye-space convergence distance (default {conv})\n\
          --focus F              extra horizontal shift (default 0)\n\
          --out PATH             quilt PNG path (required with --reference-quilt)\n\
+         --reference-depth-out PATH\n\
+                                raw f32 depth of the reference quilt, as --depth-out\n\
          --bench-quilt          render the reference quilt every frame (benchmark; implies --timing)\n\
          --timing               print the median frame time to stderr at exit\n\
          --debug-output         count GL errors via KHR_debug; print `gl-debug: errors=N` at exit\n",
@@ -118,6 +126,8 @@ pub fn parse(args: &[String], app: &AppInfo) -> Result<Option<Options>, String> 
         size: (640, 480),
         frames: 0,
         screenshot: None,
+        depth_out: None,
+        reference_depth_out: None,
         quilt: None,
         tile: (0, 0),
         depthiness: 0.1,
@@ -160,12 +170,14 @@ pub fn parse(args: &[String], app: &AppInfo) -> Result<Option<Options>, String> 
             "--size" => o.size = parse_pair(flag, val)?,
             "--frames" => o.frames = parse_num(flag, val)?,
             "--screenshot" => o.screenshot = Some(val.into()),
+            "--depth-out" => o.depth_out = Some(val.into()),
             "--reference-quilt" => o.quilt = Some(parse_pair(flag, val)?),
             "--tile" => tile = Some(parse_pair(flag, val)?),
             "--depthiness" => o.depthiness = parse_num(flag, val)?,
             "--convergence" => o.convergence = parse_num(flag, val)?,
             "--focus" => o.focus = parse_num(flag, val)?,
             "--out" => o.out = Some(val.into()),
+            "--reference-depth-out" => o.reference_depth_out = Some(val.into()),
             f => match f.strip_prefix("--").filter(|n| o.extra.contains_key(*n)) {
                 Some(n) => _ = o.extra.insert(n.to_string(), val.clone()),
                 None => return Err(format!("unknown option '{f}' (see --help)")),
@@ -175,6 +187,9 @@ pub fn parse(args: &[String], app: &AppInfo) -> Result<Option<Options>, String> 
     o.tile = tile.unwrap_or(o.size);
     if o.quilt.is_some() && o.out.is_none() {
         return Err("--reference-quilt requires --out PATH".into());
+    }
+    if o.reference_depth_out.is_some() && o.quilt.is_none() {
+        return Err("--reference-depth-out requires --reference-quilt CxR".into());
     }
     Ok(Some(o))
 }

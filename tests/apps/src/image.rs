@@ -53,6 +53,49 @@ pub fn read_default_framebuffer(gl: &Gl, w: u32, h: u32) -> Vec<u8> {
     read_rgb(gl, w, h)
 }
 
+/// OpenGL ES cannot read GL_DEPTH_COMPONENT with glReadPixels (checked at start-up, so the
+/// app does not render all its frames before failing).
+pub fn check_depth_readable(gl: &Gl) -> Result<(), String> {
+    if is_es(gl) {
+        return Err(
+            "--depth-out/--reference-depth-out need desktop OpenGL: OpenGL ES cannot glReadPixels GL_DEPTH_COMPONENT"
+                .into(),
+        );
+    }
+    Ok(())
+}
+
+/// Depth of the default framebuffer as floats in [0, 1], rows bottom-up (GL order).
+pub fn read_default_depth(gl: &Gl, w: u32, h: u32) -> Result<Vec<f32>, String> {
+    unsafe { gl.BindFramebuffer(gl::FRAMEBUFFER, 0) };
+    read_depth(gl, w, h)
+}
+
+/// Depth of the bound read framebuffer as floats in [0, 1], rows bottom-up.
+pub fn read_depth(gl: &Gl, w: u32, h: u32) -> Result<Vec<f32>, String> {
+    check_depth_readable(gl)?;
+    let mut depth = vec![0f32; w as usize * h as usize];
+    unsafe {
+        gl.PixelStorei(gl::PACK_ALIGNMENT, 4);
+        gl.ReadPixels(
+            0,
+            0,
+            w as i32,
+            h as i32,
+            gl::DEPTH_COMPONENT,
+            gl::FLOAT,
+            depth.as_mut_ptr().cast(),
+        );
+    }
+    Ok(depth)
+}
+
+/// Raw little-endian f32 values, no header (`numpy.fromfile(path, '<f4')`).
+pub fn write_f32(path: &Path, values: &[f32]) -> Result<(), String> {
+    let bytes: Vec<u8> = values.iter().flat_map(|v| v.to_le_bytes()).collect();
+    std::fs::write(path, bytes).map_err(|e| format!("writing {}: {e}", path.display()))
+}
+
 pub fn write_png(path: &Path, w: u32, h: u32, rgb: &[u8]) -> Result<(), String> {
     let err = |e: &dyn std::fmt::Display| format!("writing {}: {e}", path.display());
     let file = std::fs::File::create(path).map_err(|e| err(&e))?;

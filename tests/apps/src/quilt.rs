@@ -132,6 +132,16 @@ fn read_back_and_write(gl: &Gl, fbo: Fbo, o: &Options, w: u32, h: u32) -> Result
         }
         image::read_rgb(gl, w, h)
     };
+    // Ground truth for the layer's depth: llvmpipe rounds depth differently in FBOs and
+    // window surfaces, and the layer, like this quilt, renders views into an FBO's tiles.
+    let depth = o
+        .reference_depth_out
+        .as_ref()
+        .map(|_| image::read_depth(gl, w, h))
+        .transpose()?;
     delete_fbo(gl, &fbo);
+    if let (Some(path), Some(depth)) = (&o.reference_depth_out, depth) {
+        image::write_f32(path, &depth)?;
+    }
     image::write_png(o.out.as_ref().unwrap(), w, h, &rgb)
 }

@@ -1,4 +1,4 @@
-//! Shared main loop: CLI, back-end, frame loop, screenshot, quilt, timing.
+//! Shared main loop: CLI, back-end, frame loop, screenshot and depth read-back, quilt, timing.
 use crate::cli::{self, AppInfo, Options};
 use crate::gl::{self, Gl};
 use crate::platform::{self, Platform, Profile};
@@ -101,6 +101,9 @@ fn run(o: &Options, profile: Profile, make: Box<MakeScene>) -> Result<(), String
     if o.debug_output {
         crate::debug_output::enable(&gl)?;
     }
+    if o.depth_out.is_some() || o.reference_depth_out.is_some() {
+        image::check_depth_readable(&gl)?;
+    }
     let mut scene = make(&gl, o)?;
     install_signal_handlers();
     let (w, h) = plat.size();
@@ -109,7 +112,8 @@ fn run(o: &Options, profile: Profile, make: Box<MakeScene>) -> Result<(), String
         shear: None,
     };
     // Reference mode needs a frame to take the quilt of, even with --frames 0.
-    let last = match (o.frames, o.quilt.is_some() || o.screenshot.is_some()) {
+    let captures = o.quilt.is_some() || o.screenshot.is_some() || o.depth_out.is_some();
+    let last = match (o.frames, captures) {
         (0, true) => Some(0),
         (0, false) => None,
         (n, _) => Some(n - 1),
@@ -132,9 +136,7 @@ fn run(o: &Options, profile: Profile, make: Box<MakeScene>) -> Result<(), String
             check_gl_error(&gl, "after the first frame");
         }
         if Some(frame) == last {
-            if let Some(path) = &o.screenshot {
-                image::write_png(path, w, h, &image::read_default_framebuffer(&gl, w, h))?;
-            }
+            capture_default_framebuffer(&gl, o, (w, h))?;
             if o.quilt.is_some() && bench.is_none() {
                 quilt::render(&gl, scene.as_mut(), frame, o)?;
                 check_gl_error(&gl, "after the quilt pass");
@@ -153,6 +155,19 @@ fn run(o: &Options, profile: Profile, make: Box<MakeScene>) -> Result<(), String
         crate::debug_output::report();
     }
     scene.finish(&times);
+    Ok(())
+}
+
+/// `--screenshot` and `--depth-out`: the last frame's default framebuffer, read before the
+/// frame ends (after the swap the back buffer's content is undefined).
+fn capture_default_framebuffer(gl: &Gl, o: &Options, (w, h): (u32, u32)) -> Result<(), String> {
+    if let Some(path) = &o.screenshot {
+        image::write_png(path, w, h, &image::read_default_framebuffer(gl, w, h))?;
+    }
+    if let Some(path) = &o.depth_out {
+        image::write_f32(path, &image::read_default_depth(gl, w, h)?)?;
+        check_gl_error(gl, "after reading depth");
+    }
     Ok(())
 }
 
