@@ -78,17 +78,11 @@ fn measure(case: &'static str, p: [f64; 16], v: [f64; 16], depths: &[f64]) -> Ro
     let range = classify_f64(&m.map(|x| x as f32 as f64));
     let exact = classify_f64(&m);
     let inv_v = super::super::multiview::screen_space::invert(&v).expect("invertible view");
-    let rig = ViewRig {
-        views: 48,
-        depthiness: 0.45,
-        convergence: depths[depths.len() / 2],
-        focus: 0.0,
-    };
-    let k = rig.params(47);
+    let k = rig_for(depths).params(47);
     let (mut e64, mut e32, mut shift) = (0f64, 0f64, 0f64);
     for &d in depths {
         // A point straight ahead at eye distance d, in world coordinates.
-        let world = apply(&inv_v, [0.3 * d * 0.01, -0.2 * d * 0.01, -d, 1.0]);
+        let world = point(&inv_v, d);
         let clip = apply(&m, world);
         let w = clip[3];
         e64 = e64.max((exact.w_of_ndc(clip[2] / w) - w).abs() / w);
@@ -125,58 +119,92 @@ fn spread(near: f64, far: f64) -> Vec<f64> {
         .collect()
 }
 
-pub fn table() -> Vec<Row> {
+/// One extreme setup: projection, view, and the eye distances of the test points.
+#[derive(Clone, Debug)]
+pub struct Case {
+    pub name: &'static str,
+    pub p: [f64; 16],
+    pub v: [f64; 16],
+    pub depths: Vec<f64>,
+}
+
+/// The setups of the table (also run on Mesa by `tests/shift_on_mesa.rs`).
+pub fn cases() -> Vec<Case> {
     let eye = view(0.0, [0.0, 0.0, 0.0], 1.0);
     vec![
-        measure(
-            "ordinary: 60°, near 0.1, far 100",
-            perspective(60.0, 1.5, 0.1, Some(100.0), false),
-            eye,
-            &spread(0.1, 100.0),
-        ),
-        measure(
-            "near 1e-4, far 1e7",
-            perspective(60.0, 1.5, 1e-4, Some(1e7), false),
-            eye,
-            &spread(1e-4, 1e7),
-        ),
-        measure(
-            "infinite far, near 0.01",
-            perspective(60.0, 1.5, 0.01, None, false),
-            eye,
-            &spread(0.01, 1e6),
-        ),
-        measure(
-            "reversed-Z [0,1], near 0.01, far 1e5",
-            perspective(60.0, 1.5, 0.01, Some(1e5), true),
-            eye,
-            &spread(0.01, 1e5),
-        ),
-        measure(
-            "reversed-Z, infinite far",
-            perspective(60.0, 1.5, 0.01, None, true),
-            eye,
-            &spread(0.01, 1e6),
-        ),
-        measure(
-            "fov 1°",
-            perspective(1.0, 1.5, 0.1, Some(1000.0), false),
-            eye,
-            &spread(0.1, 1000.0),
-        ),
-        measure(
-            "fov 170°",
-            perspective(170.0, 1.5, 0.1, Some(1000.0), false),
-            eye,
-            &spread(0.1, 1000.0),
-        ),
-        measure(
-            "camera 1e6 from origin, yaw 30°, scale 3",
-            perspective(60.0, 1.5, 0.1, Some(1000.0), false),
-            view(30.0, [1e6, -2e5, 7e5], 3.0),
-            &spread(0.1, 1000.0),
-        ),
+        Case {
+            name: "ordinary: 60°, near 0.1, far 100",
+            p: perspective(60.0, 1.5, 0.1, Some(100.0), false),
+            v: eye,
+            depths: spread(0.1, 100.0),
+        },
+        Case {
+            name: "near 1e-4, far 1e7",
+            p: perspective(60.0, 1.5, 1e-4, Some(1e7), false),
+            v: eye,
+            depths: spread(1e-4, 1e7),
+        },
+        Case {
+            name: "infinite far, near 0.01",
+            p: perspective(60.0, 1.5, 0.01, None, false),
+            v: eye,
+            depths: spread(0.01, 1e6),
+        },
+        Case {
+            name: "reversed-Z [0,1], near 0.01, far 1e5",
+            p: perspective(60.0, 1.5, 0.01, Some(1e5), true),
+            v: eye,
+            depths: spread(0.01, 1e5),
+        },
+        Case {
+            name: "reversed-Z, infinite far",
+            p: perspective(60.0, 1.5, 0.01, None, true),
+            v: eye,
+            depths: spread(0.01, 1e6),
+        },
+        Case {
+            name: "fov 1°",
+            p: perspective(1.0, 1.5, 0.1, Some(1000.0), false),
+            v: eye,
+            depths: spread(0.1, 1000.0),
+        },
+        Case {
+            name: "fov 170°",
+            p: perspective(170.0, 1.5, 0.1, Some(1000.0), false),
+            v: eye,
+            depths: spread(0.1, 1000.0),
+        },
+        Case {
+            name: "camera 1e6 from origin, yaw 30°, scale 3",
+            p: perspective(60.0, 1.5, 0.1, Some(1000.0), false),
+            v: view(30.0, [1e6, -2e5, 7e5], 3.0),
+            depths: spread(0.1, 1000.0),
+        },
     ]
+}
+
+pub fn table() -> Vec<Row> {
+    cases()
+        .into_iter()
+        .map(|c| measure(c.name, c.p, c.v, &c.depths))
+        .collect()
+}
+
+/// The rig every precision figure uses: 48 views, depthiness 0.45, convergence at the
+/// middle test depth; view 47 (the outermost) is measured.
+pub fn rig_for(depths: &[f64]) -> ViewRig {
+    ViewRig {
+        views: 48,
+        depthiness: 0.45,
+        convergence: depths[depths.len() / 2],
+        focus: 0.0,
+    }
+}
+
+/// Test point `j` of a case, in world coordinates: straight ahead (slightly off-axis) at eye
+/// distance `d`.
+pub fn point(inv_view: &[f64; 16], d: f64) -> [f64; 4] {
+    apply(inv_view, [0.3 * d * 0.01, -0.2 * d * 0.01, -d, 1.0])
 }
 
 /// The stated bound (README) for depth linearised from exact clip coordinates at every

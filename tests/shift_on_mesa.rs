@@ -1,0 +1,234 @@
+//! The injected GLSL, run on Mesa, against the f64 reference at the extremes of
+//! `camera::precision::cases()` (tiny near planes, far 1e7 or none, reversed-Z, 1° and 170°
+//! fields of view, a camera 1e6 from the origin).
+//!
+//! A real vertex shader (`gl_Position = mvp * pos`) is rewritten exactly as the link hook
+//! does, compiled by Mesa (OSMesa, llvmpipe), and its `gl_Position` captured with transform
+//! feedback, for the centre view and for the outermost of 48 views. Per case it reports, in
+//! pixels of a 420-px tile:
+//! - **shader**: the injected arithmetic alone: Mesa's shifted x/w against `x + k(w - c)`
+//!   evaluated in f64 on Mesa's own unshifted clip coordinates;
+//! - **total**: Mesa's shifted x/w against the exact f64 pipeline (app matrix and point in
+//!   f64), i.e. what f32 costs the whole chain, the app's own transform included.
+//!
+//! The centre view must be bit-identical to the unrewritten shader.
+//!
+//! Run: `cargo test --release --test shift_on_mesa -- --nocapture`
+
+use holoapps::gl::{self, Gl};
+use holoapps::platform::{Platform, Profile, create};
+use holoinject::camera::precision::{Case, apply, cases, mul, point, rig_for};
+use holoinject::camera::projection::classify;
+use holoinject::multiview::screen_space::invert;
+use holoinject::shader::{Stage, VIEW_UNIFORM, ViewMode, analyse, rewrite};
+use std::ffi::CString;
+
+const VERTEX: &str = "#version 330 core
+uniform mat4 mvp;
+layout(location = 0) in vec4 pos;
+void main() {
+    gl_Position = mvp * pos;
+}
+";
+const TILE_HALF_WIDTH: f64 = 210.0;
+
+struct Mesa {
+    _platform: Box<dyn Platform>,
+    gl: Gl,
+}
+
+fn mesa() -> Mesa {
+    // A test executable linking the holoinject rlib exports its hooks (and `dlsym`), so the
+    // layer is live in this process: keep it in pass-through, as the shader here is
+    // rewritten and driven by hand.
+    // SAFETY: set before any thread or GL call of this test binary reads the environment.
+    unsafe { std::env::set_var("HOLOINJECT_OUTPUT", "mono") };
+    let platform = create(holoapps::cli::Backend::OsMesa, (16, 16), Profile::Core33).expect("OSMesa context");
+    let gl = Gl::load_with(|s| platform.get_proc_address(s));
+    Mesa {
+        _platform: platform,
+        gl,
+    }
+}
+
+/// A program capturing `gl_Position` through transform feedback.
+fn capture_program(gl: &Gl, vertex: &str) -> u32 {
+    unsafe {
+        let s = gl.CreateShader(gl::VERTEX_SHADER);
+        let c = CString::new(vertex).unwrap();
+        gl.ShaderSource(s, 1, &c.as_ptr(), std::ptr::null());
+        gl.CompileShader(s);
+        let mut ok = 0;
+        gl.GetShaderiv(s, gl::COMPILE_STATUS, &mut ok);
+        assert_eq!(ok, 1, "Mesa refused:\n{vertex}");
+        let p = gl.CreateProgram();
+        gl.AttachShader(p, s);
+        let varying = c"gl_Position";
+        gl.TransformFeedbackVaryings(p, 1, &varying.as_ptr(), gl::INTERLEAVED_ATTRIBS);
+        gl.LinkProgram(p);
+        gl.GetProgramiv(p, gl::LINK_STATUS, &mut ok);
+        assert_eq!(ok, 1, "link failed");
+        gl.DeleteShader(s);
+        p
+    }
+}
+
+/// Clip coordinates of `points` through `program` with `mvp` and, when the program was
+/// rewritten, `holoinject_view = view`.
+fn run(gl: &Gl, program: u32, mvp: &[f32; 16], view: Option<[f32; 4]>, points: &[[f32; 4]]) -> Vec<[f32; 4]> {
+    unsafe {
+        gl.UseProgram(program);
+        gl.UniformMatrix4fv(
+            gl.GetUniformLocation(program, c"mvp".as_ptr()),
+            1,
+            gl::FALSE,
+            mvp.as_ptr(),
+        );
+        if let Some(v) = view {
+            let name = CString::new(VIEW_UNIFORM).unwrap();
+            let loc = gl.GetUniformLocation(program, name.as_ptr());
+            assert!(loc >= 0, "{VIEW_UNIFORM} not found");
+            gl.Uniform4f(loc, v[0], v[1], v[2], v[3]);
+        }
+        let (mut vao, mut vbo, mut tfb) = (0, 0, 0);
+        gl.GenVertexArrays(1, &mut vao);
+        gl.BindVertexArray(vao);
+        gl.GenBuffers(1, &mut vbo);
+        gl.BindBuffer(gl::ARRAY_BUFFER, vbo);
+        let bytes = std::mem::size_of_val(points) as isize;
+        gl.BufferData(gl::ARRAY_BUFFER, bytes, points.as_ptr().cast(), gl::STATIC_DRAW);
+        gl.VertexAttribPointer(0, 4, gl::FLOAT, gl::FALSE, 0, std::ptr::null());
+        gl.EnableVertexAttribArray(0);
+        gl.GenBuffers(1, &mut tfb);
+        gl.BindBuffer(gl::TRANSFORM_FEEDBACK_BUFFER, tfb);
+        gl.BufferData(gl::TRANSFORM_FEEDBACK_BUFFER, bytes, std::ptr::null(), gl::STATIC_READ);
+        gl.BindBufferBase(gl::TRANSFORM_FEEDBACK_BUFFER, 0, tfb);
+        gl.Enable(gl::RASTERIZER_DISCARD);
+        gl.BeginTransformFeedback(gl::POINTS);
+        gl.DrawArrays(gl::POINTS, 0, points.len() as i32);
+        gl.EndTransformFeedback();
+        gl.Disable(gl::RASTERIZER_DISCARD);
+        let mut out = vec![[0f32; 4]; points.len()];
+        gl.GetBufferSubData(gl::TRANSFORM_FEEDBACK_BUFFER, 0, bytes, out.as_mut_ptr().cast());
+        assert_eq!(gl.GetError(), gl::NO_ERROR);
+        gl.DeleteBuffers(1, &vbo);
+        gl.DeleteBuffers(1, &tfb);
+        gl.DeleteVertexArrays(1, &vao);
+        out
+    }
+}
+
+struct Measured {
+    shader_px: f64,
+    bound_px: f64,
+    /// Points the far-plane rule treated as at infinity, and what that rule moved them by
+    /// against the exact shift (`k·c/w`).
+    at_far: usize,
+    far_rule_px: f64,
+    total_px: f64,
+    /// Largest shift seen, to show the figures are not of a shift that does nothing.
+    shift_px: f64,
+}
+
+/// The shader's far-plane test (`glsl-patches/view_shift.glsl`), evaluated on its f32 inputs.
+const FAR_TOLERANCE: f64 = 1e-6;
+
+fn measure(gl: &Gl, plain: u32, rewritten: u32, case: &Case) -> Measured {
+    let m = mul(&case.p, &case.v);
+    let m32 = m.map(|x| x as f32);
+    let inv_v = invert(&case.v).unwrap();
+    let world: Vec<[f64; 4]> = case.depths.iter().map(|&d| point(&inv_v, d)).collect();
+    let points: Vec<[f32; 4]> = world.iter().map(|p| p.map(|x| x as f32)).collect();
+    let reversed = classify(&m32).and_then(|p| p.depth).is_some_and(|d| d.a > 0.0);
+    let mode = if reversed {
+        ViewMode::PerspectiveReversedZ
+    } else {
+        ViewMode::Perspective
+    }
+    .as_uniform();
+    let rig = rig_for(&case.depths);
+
+    // Centre view: bit-identical to the app's own shader.
+    let c = rig.params(rig.centre() - 1 + rig.views % 2);
+    let own = run(gl, plain, &m32, None, &points);
+    let centre = run(gl, rewritten, &m32, Some([0.0, c.c, 0.0, mode]), &points);
+    for (a, b) in own.iter().zip(&centre) {
+        assert_eq!(
+            a.map(f32::to_bits),
+            b.map(f32::to_bits),
+            "{}: centre view differs",
+            case.name
+        );
+    }
+
+    let v = rig.params(47);
+    let shifted = run(gl, rewritten, &m32, Some([v.k, v.c, v.h, mode]), &points);
+    let (k, cc, h) = (v.k as f64, v.c as f64, v.h as f64);
+    let eps = f32::EPSILON as f64;
+    let mut r = Measured {
+        shader_px: 0.0,
+        bound_px: 0.0,
+        at_far: 0,
+        far_rule_px: 0.0,
+        total_px: 0.0,
+        shift_px: 0.0,
+    };
+    for ((o, s), wp) in own.iter().zip(&shifted).zip(&world) {
+        let (x, z, w) = (o[0] as f64, o[2] as f64, o[3] as f64);
+        let got = s[0] as f64 / s[3] as f64;
+        let far_z = if reversed { 0.0 } else { w };
+        let at_far = (z - far_z).abs() <= FAR_TOLERANCE * w.abs();
+        let c_used = if at_far { 0.0 } else { cc };
+        let want = (x + k * (w - c_used) + h * w) / w;
+        r.shader_px = r.shader_px.max((got - want).abs() * TILE_HALF_WIDTH);
+        // Five f32 roundings (w - c, k·(..), h·w and two sums), each within eps/2 of the
+        // sizes involved, then the divide by w.
+        let terms = x.abs() + k.abs() * (w.abs() + c_used.abs()) + h.abs() * w.abs();
+        r.bound_px = r.bound_px.max(3.0 * eps * terms / w.abs() * TILE_HALF_WIDTH);
+        if at_far {
+            r.at_far += 1;
+            r.far_rule_px = r.far_rule_px.max((k * cc / w).abs() * TILE_HALF_WIDTH);
+        }
+        let exact = apply(&m, *wp);
+        let want64 = (exact[0] + k * (exact[3] - cc) + h * exact[3]) / exact[3];
+        r.total_px = r.total_px.max((got - want64).abs() * TILE_HALF_WIDTH);
+        r.shift_px = r.shift_px.max((got - x / w).abs() * TILE_HALF_WIDTH);
+    }
+    r
+}
+
+#[test]
+fn injected_shift_on_mesa_matches_f64_at_the_extremes() {
+    let mesa = mesa();
+    let gl = &mesa.gl;
+    let analysis = analyse(VERTEX, Stage::Vertex);
+    let rewritten_src = rewrite(VERTEX, &analysis).expect("rewrite");
+    let plain = capture_program(gl, VERTEX);
+    let rewritten = capture_program(gl, &rewritten_src);
+    println!(
+        "| case | largest shift, view 47 (px) | shader arithmetic error (px) | its bound (px) | points taken as far plane | far-plane rule vs exact (px) | total f32 error (px) |"
+    );
+    println!("|---|---|---|---|---|---|---|");
+    for case in cases() {
+        let m = measure(gl, plain, rewritten, &case);
+        println!(
+            "| {} | {:.3e} | {:.2e} | {:.2e} | {} of {} | {:.2e} | {:.2e} |",
+            case.name,
+            m.shift_px,
+            m.shader_px,
+            m.bound_px,
+            m.at_far,
+            case.depths.len(),
+            m.far_rule_px,
+            m.total_px
+        );
+        assert!(m.shift_px > 1.0, "{}: the outer view is not shifted", case.name);
+        assert!(
+            m.shader_px <= m.bound_px,
+            "{}: injected shift off by {} px (bound {} px)",
+            case.name,
+            m.shader_px,
+            m.bound_px
+        );
+    }
+}
