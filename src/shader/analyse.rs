@@ -71,11 +71,17 @@ pub fn parse_error(source: &str) -> Option<String> {
 }
 
 /// The text glsl-lang may be given. Its preprocessor (0.8) loops forever on a directive that
-/// ends in `##` at the end of the input (found by `cargo fuzz`): a final newline ends every
-/// directive, and input that ends inside a block comment is left to the text analysis.
+/// ends in `##` at the end of the input, and on `##` followed by a `"` (both found by
+/// `cargo fuzz`): a final newline ends every directive; a source with both `##` and `"` (GLSL
+/// has no strings; only `#line`/`#include` extensions use quotes) or ending inside a block
+/// comment is left to the text analysis.
 fn parser_safe(source: &str) -> Result<String, &'static str> {
     if text::ends_in_block_comment(source) {
         return Err("unterminated block comment");
+    }
+    let blanked = text::blank_comments(source);
+    if blanked.contains("##") && blanked.contains('"') {
+        return Err("token pasting (##) together with a quote");
     }
     Ok(format!("{source}\n"))
 }

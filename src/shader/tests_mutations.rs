@@ -88,7 +88,8 @@ fn fuzz_regressions_finish_without_panics() {
         .unwrap()
         .map(|e| std::fs::read(e.unwrap().path()).unwrap())
         .collect();
-    // Directives ending in `##` at the end of the input made glsl-lang's preprocessor spin.
+    // Directives ending in `##` at the end of the input, or `##` then a quote, made
+    // glsl-lang's preprocessor spin.
     for src in [
         "#if ##",
         "#if a ##",
@@ -96,6 +97,8 @@ fn fuzz_regressions_finish_without_panics() {
         "#if 1\n#elif ##",
         "#if ## \\\n",
         "#if ##/*",
+        "#define ####x\"t\n",
+        "#define X a ## \"\n",
     ] {
         inputs.push([&[0u8][..], src.as_bytes()].concat());
     }
