@@ -9,8 +9,9 @@
 #   scripts/fuzz.sh all SECONDS           every target, one after the other
 #
 # Each run appends a line to scripts/results/fuzz-log.md (target, seconds, executions,
-# corpus size, crashes). A crash is written to tests/fuzz/artifacts/TARGET/; copy it into
-# tests/fuzz/regressions/ (run by `cargo test`) once it is fixed.
+# corpus size, crashes). Runs go on past a finding (libFuzzer fork mode); every crash or hang
+# is written to tests/fuzz/artifacts/TARGET/; copy it into tests/fuzz/regressions/ (run by
+# `cargo test`) once it is fixed.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 # No sanitizer: the targets are safe Rust, and under ASan the binary exports our dlsym
@@ -73,16 +74,21 @@ run_target() {
   local seed_dir=$seeds/$target
   case $target in glsl_rewrite|glsl_compiles) seed_dir=$seeds/glsl ;; esac
   mkdir -p "$work/$target" "$artifacts" scripts/results
+  [[ -s scripts/results/fuzz-log.md ]] || printf '%s\n' '# cargo fuzz runs (scripts/fuzz.sh)' '' \
+    '| when (UTC) | target | ran | executions | corpus | crash files |' '|---|---|---|---|---|---|' \
+    > scripts/results/fuzz-log.md
   local log; log=$(mktemp)
   local start; start=$(date +%s)
   local status=0
   "${fuzz[@]}" run --fuzz-dir tests/fuzz -O -a -s none "$target" "$work/$target" "$seed_dir" -- \
       -max_total_time="$secs" -max_len=65536 -timeout=20 -rss_limit_mb=4096 \
-      -artifact_prefix="$artifacts" -print_final_stats=1 2>&1 | tee "$log" | grep -E '^(#[0-9]+.*(pulse|DONE)|==|.*panicked)' >&2 \
+      -fork=1 -ignore_crashes=1 -ignore_timeouts=1 -ignore_ooms=1 \
+      -artifact_prefix="$artifacts" -print_final_stats=1 2>&1 | tee "$log" | grep -E '^(#[0-9]+: cov|==|.*panicked|INFO: fuzzed)' >&2 \
       || status=$?
   local took=$(( $(date +%s) - start ))
   local execs corpus crashes
-  execs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo "?")
+  # Fork mode (it goes on past a finding) reports progress as `#EXECUTIONS: cov: …`.
+  execs=$(grep -o '^#[0-9]*: cov' "$log" | tail -1 | tr -dc '0-9' || true)
   corpus=$(find "$work/$target" -type f | wc -l)
   crashes=$(find "$artifacts" -type f | wc -l)
   printf '| %s | %s | %s s | %s | %s | %s |\n' "$(date -u +%F\ %H:%M)" "$target" "$took" "${execs:-?}" \

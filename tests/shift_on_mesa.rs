@@ -37,13 +37,15 @@ struct Mesa {
     gl: Gl,
 }
 
-fn mesa() -> Mesa {
+fn mesa(profile: Profile) -> Mesa {
     // A test executable linking the holoinject rlib exports its hooks (and `dlsym`), so the
-    // layer is live in this process: keep it in pass-through, as the shader here is
+    // layer is live in this process: keep it in pass-through, as the shaders here are
     // rewritten and driven by hand.
-    // SAFETY: set before any thread or GL call of this test binary reads the environment.
-    unsafe { std::env::set_var("HOLOINJECT_OUTPUT", "mono") };
-    let platform = create(holoapps::cli::Backend::OsMesa, (16, 16), Profile::Core33).expect("OSMesa context");
+    static PASS_THROUGH: std::sync::Once = std::sync::Once::new();
+    // SAFETY: the layer reads its settings on its first GL call, after this; both tests
+    // write the same value under the Once.
+    PASS_THROUGH.call_once(|| unsafe { std::env::set_var("HOLOINJECT_OUTPUT", "mono") });
+    let platform = create(holoapps::cli::Backend::OsMesa, (16, 16), profile).expect("OSMesa context");
     let gl = Gl::load_with(|s| platform.get_proc_address(s));
     Mesa {
         _platform: platform,
@@ -199,7 +201,7 @@ fn measure(gl: &Gl, plain: u32, rewritten: u32, case: &Case) -> Measured {
 
 #[test]
 fn injected_shift_on_mesa_matches_f64_at_the_extremes() {
-    let mesa = mesa();
+    let mesa = mesa(Profile::Core33);
     let gl = &mesa.gl;
     let analysis = analyse(VERTEX, Stage::Vertex);
     let rewritten_src = rewrite(VERTEX, &analysis).expect("rewrite");
@@ -231,4 +233,76 @@ fn injected_shift_on_mesa_matches_f64_at_the_extremes() {
             m.bound_px
         );
     }
+}
+
+/// Mesa's verdict on one shader: `Err(info log)` when it does not compile.
+fn compile(gl: &Gl, kind: u32, src: &str) -> Result<(), String> {
+    let c = CString::new(src).map_err(|_| "NUL in source".to_string())?;
+    unsafe {
+        let s = gl.CreateShader(kind);
+        gl.ShaderSource(s, 1, &c.as_ptr(), std::ptr::null());
+        gl.CompileShader(s);
+        let mut ok = 0;
+        gl.GetShaderiv(s, gl::COMPILE_STATUS, &mut ok);
+        let mut log = vec![0u8; 4096];
+        let mut len = 0;
+        gl.GetShaderInfoLog(s, log.len() as i32, &mut len, log.as_mut_ptr().cast());
+        gl.DeleteShader(s);
+        match ok {
+            0 => Err(String::from_utf8_lossy(&log[..len.max(0) as usize]).into_owned()),
+            _ => Ok(()),
+        }
+    }
+}
+
+/// The `glsl_compiles` fuzz target's promise, in every test run: each shader the sample apps
+/// and the real programs of the tests compile (the fuzz seed corpus, collected by
+/// `scripts/fuzz.sh seeds`) and each input fuzzing found, when Mesa compiles it, still
+/// compiles after our rewrite — or the rewrite is refused and the app's text is used.
+#[test]
+fn rewrites_of_shaders_mesa_compiles_compile_too() {
+    let mesa = mesa(Profile::Legacy);
+    let gl = &mesa.gl;
+    let root = env!("CARGO_MANIFEST_DIR");
+    let mut files = vec![];
+    for dir in ["tests/fuzz/seeds/glsl", "tests/fuzz/regressions/glsl_compiles"] {
+        files.extend(
+            std::fs::read_dir(format!("{root}/{dir}"))
+                .unwrap()
+                .map(|e| e.unwrap().path()),
+        );
+    }
+    files.sort();
+    let (mut compiled, mut rewritten, mut refused) = (0, 0, 0);
+    for path in &files {
+        let data = std::fs::read(path).unwrap();
+        let Some((&sel, rest)) = data.split_first() else {
+            continue;
+        };
+        let Ok(source) = std::str::from_utf8(rest) else {
+            continue;
+        };
+        // The fuzz targets' stage byte.
+        let (stage, kind) = match sel % 4 {
+            0 => (Stage::Vertex, gl::VERTEX_SHADER),
+            1 => (Stage::Geometry, gl::GEOMETRY_SHADER),
+            2 => (Stage::TessEval, gl::TESS_EVALUATION_SHADER),
+            _ => continue,
+        };
+        if compile(gl, kind, source).is_err() {
+            continue;
+        }
+        compiled += 1;
+        match rewrite(source, &analyse(source, stage)) {
+            Ok(out) => {
+                rewritten += 1;
+                if let Err(log) = compile(gl, kind, &out) {
+                    panic!("{}: Mesa compiles it but not its rewrite: {log}\n{out}", path.display());
+                }
+            }
+            Err(_) => refused += 1,
+        }
+    }
+    println!("{compiled} shaders compile on Mesa: {rewritten} rewritten (all compile), {refused} left as they are");
+    assert!(rewritten >= 40, "only {rewritten} shaders rewritten: seeds missing?");
 }

@@ -39,6 +39,15 @@ fn refuse(blanked: &str, analysis: &Analysis) -> Result<(), String> {
     {
         return Err("geometry-shader built-ins outside a geometry shader".into());
     }
+    // Nothing to shift, and Mesa compiles such a "geometry shader" (a vertex shader handed
+    // over as one, found by fuzzing) but not with our EmitVertex wrapper added.
+    if analysis.stage == Stage::Geometry
+        && !["EmitVertex", "EmitStreamVertex"]
+            .iter()
+            .any(|name| text::has_ident(blanked, name))
+    {
+        return Err("geometry shader that emits no vertex".into());
+    }
     if !analysis.writes_position {
         return Err("does not write gl_Position".into());
     }

@@ -22,6 +22,10 @@ unsafe impl Sync for Mesa {}
 fn mesa() -> &'static Mesa {
     static MESA: OnceLock<Mesa> = OnceLock::new();
     MESA.get_or_init(|| {
+        // This binary links the holoinject rlib, whose hooks (and `dlsym`) are exported and
+        // live: keep the layer in pass-through.
+        // SAFETY: the first GL call, which reads the settings, comes after this.
+        unsafe { std::env::set_var("HOLOINJECT_OUTPUT", "mono") };
         let platform = create(holoapps::cli::Backend::OsMesa, (16, 16), Profile::Legacy)
             .expect("OSMesa context (apt-get install libosmesa6)");
         let gl = Gl::load_with(|s| platform.get_proc_address(s));
