@@ -95,6 +95,15 @@ fn layer_reports_bad_variables_and_keeps_running() {
         ),
         ("HOLOINJECT_EXIT_AFTER", "-1", "HOLOINJECT_EXIT_AFTER=-1"),
         ("HOLOINJECT_DEPTHINESS", "NaN", "HOLOINJECT_DEPTHINESS=NaN"),
+        ("HOLOINJECT_QUILT", "16384x16384", "at most 1024"),
+        ("HOLOINJECT_QUILT", "-3x3", "HOLOINJECT_QUILT=-3x3"),
+        ("HOLOINJECT_CONVERGENCE", "1e999", "HOLOINJECT_CONVERGENCE=1e999"),
+        ("HOLOINJECT_FOCUS", "\u{202e}0.1", "HOLOINJECT_FOCUS="),
+        (
+            "HOLOINJECT_DUMP_FRAMES",
+            "every:18446744073709551616",
+            "HOLOINJECT_DUMP_FRAMES=",
+        ),
         ("HOLOINJECT_LOG", "loud", "HOLOINJECT_LOG: unknown level"),
         ("HOLOINJECT_DUMP", unwritable.to_str().unwrap(), "not dumped"),
     ];
@@ -181,6 +190,53 @@ fn app_presets_apply_and_their_problems_are_named() {
     assert!(out.status.success(), "{err}");
     assert_eq!(
         err.matches("HOLOINJECT_PRESET=no-such-game: unknown preset").count(),
+        1,
+        "{err}"
+    );
+}
+
+/// Hostile values that parse but are extreme, and bytes that are not text: the program runs,
+/// a too-large explicit tile is shrunk to what GL can allocate, and a non-UTF-8 variable is
+/// named once.
+#[test]
+fn extreme_but_valid_values_and_non_utf8_bytes() {
+    use std::os::unix::ffi::OsStrExt;
+    let dir = temp_dir("extreme_values");
+    let lib = layer_lib();
+    let out = std::process::Command::new(app("cubes"))
+        .args(["--backend", "egl", "--size", "160x120", "--frames", "2"])
+        .env("LD_PRELOAD", &lib)
+        .env("HOLOINJECT_TILE", "16384x16384")
+        .env("HOLOINJECT_QUILT", "2x1")
+        .env("HOLOINJECT_DUMP", &dir)
+        .env("HOLOINJECT_LOG", "warn")
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", stderr(&out));
+    let quilt = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .find(|e| e.file_name().to_string_lossy().contains("_qs2x1"))
+        .expect("no quilt dumped");
+    let img = read_png(&quilt.path());
+    assert!(
+        img.width <= 16384 && img.height <= 16384 && img.width >= 8,
+        "{}x{}",
+        img.width,
+        img.height
+    );
+
+    let out = std::process::Command::new(app("cubes"))
+        .args(["--backend", "egl", "--size", "160x120", "--frames", "2"])
+        .env("LD_PRELOAD", &lib)
+        .env("HOLOINJECT_QUILT", std::ffi::OsStr::from_bytes(b"3x\xff3"))
+        .output()
+        .unwrap();
+    let err = stderr(&out);
+    assert!(out.status.success(), "{err}");
+    assert_eq!(
+        err.matches("HOLOINJECT_QUILT=3x\u{fffd}3: not valid UTF-8; ignored")
+            .count(),
         1,
         "{err}"
     );

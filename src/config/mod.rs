@@ -172,7 +172,7 @@ impl Settings {
                 "exit-after" => s.exit_after = parse::frame_number(&value).ok(),
                 "osmesa-boundary" => s.osmesa_boundary = parse::boundary(&value).unwrap_or(Boundary::Finish),
                 "output" => output = parse::output(&value).ok(),
-                "quilt" => quilt = parse::grid(&value).ok(),
+                "quilt" => quilt = parse::quilt(&value).ok(),
                 "tile" => tile = parse::grid(&value).ok(),
                 "device" => s.view.device = device::load(&value).ok(),
                 "weave-filter" => s.view.weave_filter = parse::weave_filter(&value).unwrap_or(s.view.weave_filter),
@@ -206,6 +206,11 @@ pub fn settings() -> &'static Settings {
     SETTINGS.get_or_init(|| {
         let env = |k: &str| std::env::var(k).ok();
         let mut report = |msg: String| crate::log::error(format_args!("{msg}"));
+        for var in options::OPTIONS.iter().map(|o| o.env_name()) {
+            if let Err(std::env::VarError::NotUnicode(raw)) = std::env::var(&var) {
+                report(format!("{var}={}: not valid UTF-8; ignored", raw.to_string_lossy()));
+            }
+        }
         let chosen = preset::for_process(&env, &mut report);
         if let Some(c) = &chosen {
             let set: Vec<String> = c.preset.values.iter().map(|(k, v)| format!("{k}={v}")).collect();

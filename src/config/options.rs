@@ -34,8 +34,8 @@ const fn opt(long: &'static str, value: &'static str, help: &'static str, check:
 
 #[rustfmt::skip]
 pub static OPTIONS: &[OptDef] = &[
-    opt("quilt", "CxR", "quilt columns x rows (views = C*R); default the device's, else 8x6",
-        |v| super::parse::grid(v).map(|_| ())),
+    opt("quilt", "CxR", "quilt columns x rows (views = C*R, at most 1024); default the device's, else 8x6",
+        |v| super::parse::quilt(v).map(|_| ())),
     opt("tile", "WxH", "one view's tile in pixels; default the device's, else the window's (quilt capped at 8192 px)",
         |v| super::parse::grid(v).map(|_| ())),
     opt("device", "NAME|PATH", "display: a preset in presets/devices/ (e.g. portrait, go, 16-gen3-landscape) or a unit's visual.json",

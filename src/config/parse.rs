@@ -14,6 +14,19 @@ pub fn grid(v: &str) -> Result<(u32, u32), String> {
     Ok((a, b))
 }
 
+/// Most views a quilt may have: every draw is replayed once per view, so a mistyped
+/// `16384x16384` must not turn into 268 million draws per draw. Looking Glass panels use up
+/// to 100.
+pub const MAX_VIEWS: u32 = 1024;
+
+pub fn quilt(v: &str) -> Result<(u32, u32), String> {
+    let (c, r) = grid(v)?;
+    if c * r > MAX_VIEWS {
+        return Err(format!("`{v}`: {} views; at most {MAX_VIEWS}", c * r));
+    }
+    Ok((c, r))
+}
+
 pub fn mode(v: &str) -> Result<(), String> {
     let known = match v {
         "exact" | "auto" => return Ok(()),

@@ -15,21 +15,30 @@ pub struct QuiltLayout {
 
 /// Largest quilt edge we allocate when the tile size is derived from the window.
 pub const MAX_QUILT_EDGE: u32 = 8192;
+/// Largest quilt edge for tiles given explicitly (`--tile`): the common GL texture limit.
+pub const MAX_EXPLICIT_QUILT_EDGE: u32 = 16384;
+
+/// `tile` shrunk uniformly (aspect kept) so that `cols x rows` of it fit in `edge` pixels.
+fn fit(tile: (u32, u32), cols: u32, rows: u32, edge: u32) -> (u32, u32) {
+    let scale = (edge as f64 / (cols as f64 * tile.0.max(1) as f64))
+        .min(edge as f64 / (rows as f64 * tile.1.max(1) as f64))
+        .min(1.0);
+    (
+        ((tile.0 as f64 * scale) as u32).max(1),
+        ((tile.1 as f64 * scale) as u32).max(1),
+    )
+}
 
 impl QuiltLayout {
     /// Tiles default to the window size (so views are pixel-exact renders of the app's
-    /// frame), shrunk uniformly when the quilt would exceed `MAX_QUILT_EDGE`.
+    /// frame), shrunk uniformly when the quilt would exceed `MAX_QUILT_EDGE`; explicit tiles
+    /// are shrunk only past `MAX_EXPLICIT_QUILT_EDGE`.
     pub fn new(quilt: (u32, u32), tile: Option<(u32, u32)>, window: (u32, u32)) -> QuiltLayout {
         let (cols, rows) = (quilt.0.max(1), quilt.1.max(1));
-        let (tile_w, tile_h) = tile.unwrap_or_else(|| {
-            let scale = (MAX_QUILT_EDGE as f64 / (cols * window.0.max(1)) as f64)
-                .min(MAX_QUILT_EDGE as f64 / (rows * window.1.max(1)) as f64)
-                .min(1.0);
-            (
-                ((window.0 as f64 * scale) as u32).max(1),
-                ((window.1 as f64 * scale) as u32).max(1),
-            )
-        });
+        let (tile_w, tile_h) = match tile {
+            Some(t) => fit(t, cols, rows, MAX_EXPLICIT_QUILT_EDGE),
+            None => fit(window, cols, rows, MAX_QUILT_EDGE),
+        };
         QuiltLayout {
             cols,
             rows,
@@ -131,6 +140,11 @@ mod tests {
         assert!(QuiltLayout::new((3, 3), None, (640, 480)).unscaled());
         let big = QuiltLayout::new((8, 6), None, (1920, 1080));
         assert!(big.width() <= MAX_QUILT_EDGE && big.height() <= MAX_QUILT_EDGE);
+        let huge = QuiltLayout::new((8, 6), Some((16384, 16384)), (640, 480));
+        assert!(huge.width() <= MAX_EXPLICIT_QUILT_EDGE && huge.height() <= MAX_EXPLICIT_QUILT_EDGE);
+        assert_eq!(huge.tile_w, huge.tile_h);
+        let many = QuiltLayout::new((1024, 1), None, (16384, 16384));
+        assert!(many.width() <= MAX_QUILT_EDGE && many.tile_w >= 1);
         assert_eq!(big.file_tag(), "qs8x6a1.7778");
         assert_eq!(
             QuiltLayout::new((8, 6), Some((420, 560)), (420, 560)).aspect_label(),
