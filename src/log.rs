@@ -113,6 +113,7 @@ pub fn announce() {
     if ANNOUNCED.swap(true, Ordering::Relaxed) {
         return;
     }
+    quiet_panics();
     let exe = std::env::current_exe()
         .map(|p| p.display().to_string())
         .unwrap_or_default();
@@ -127,4 +128,37 @@ pub fn announce() {
         ));
     }
     crate::config::settings();
+}
+
+/// Inside someone else's process a panic of ours (caught at the hook, which then falls back to
+/// pass-through) must not print Rust's multi-line report, and backtrace, on the app's stderr:
+/// it becomes one error line at the asked level. Only when this code lives in its own shared
+/// object (the preloaded layer has its own copy of std, hence its own panic hook); linked into
+/// a program (tests, fuzz targets) the program's hook is left alone.
+fn quiet_panics() {
+    let mut ours = unsafe { std::mem::zeroed::<libc::Dl_info>() };
+    let mut exe = unsafe { std::mem::zeroed::<libc::Dl_info>() };
+    // SAFETY: dladdr on a function of this object and on the program's program headers
+    // (AT_PHDR, inside the executable's mapping); both only fill the out structs.
+    let separate = unsafe {
+        let phdr = libc::getauxval(libc::AT_PHDR) as *const libc::c_void;
+        libc::dladdr(quiet_panics as *const libc::c_void, &mut ours) != 0
+            && libc::dladdr(phdr, &mut exe) != 0
+            && exe.dli_fbase != ours.dli_fbase
+    };
+    if separate {
+        std::panic::set_hook(Box::new(|info| {
+            let at = info
+                .location()
+                .map(|l| format!(" at {}:{}", l.file(), l.line()))
+                .unwrap_or_default();
+            let what = info
+                .payload()
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| info.payload().downcast_ref::<String>().cloned())
+                .unwrap_or_default();
+            error(format_args!("internal panic{at}: {}", what.replace('\n', " ")));
+        }));
+    }
 }

@@ -50,6 +50,41 @@ pub fn rebind(gl: &Gl, mv: &Multiview) {
     }
 }
 
+/// Before the layer gives up on a context (internal failure), the frame in progress moves to
+/// where the app believes it is: the centre view's tile into the real default framebuffer
+/// (colour, depth, stencil), and each shadowed framebuffer's centre layer into the app's own
+/// attachments. Without this, an app that reads back or keeps drawing after the failure would
+/// see the previous frame, or a quilt.
+pub fn hand_back(gl: &Gl, mv: &Multiview) {
+    let centre = mv.rig.centre();
+    let mut caps = vec![SCISSOR_TEST];
+    if !mv.info.es {
+        caps.push(FRAMEBUFFER_SRGB);
+    }
+    let _guard = crate::gl::guard::StateGuard::new(gl, mv.info)
+        .framebuffers()
+        .caps(&caps);
+    // SAFETY: blits from our quilt into framebuffer 0, and from our layers into the app's own
+    // framebuffers; bindings, scissor and sRGB restored by the guard, selections put back.
+    unsafe {
+        caps.iter().for_each(|&c| gl.Disable(c));
+        if let Some(t) = mv.target.as_ref() {
+            let [x, y, w, h] = t.layout.tile_rect(centre);
+            let (ww, wh) = (t.layout.window_w as i32, t.layout.window_h as i32);
+            gl.BindFramebuffer(READ_FRAMEBUFFER, t.fbo);
+            gl.BindFramebuffer(DRAW_FRAMEBUFFER, 0);
+            gl.ReadBuffer(COLOR_ATTACHMENT0);
+            let filter = if (w, h) == (ww, wh) { NEAREST } else { LINEAR };
+            gl.BlitFramebuffer(x, y, x + w, y + h, 0, 0, ww, wh, COLOR_BUFFER_BIT, filter);
+            let ds = DEPTH_BUFFER_BIT | STENCIL_BUFFER_BIT;
+            gl.BlitFramebuffer(x, y, x + w, y + h, 0, 0, ww, wh, ds, NEAREST);
+        }
+        for (&app_fbo, shadow) in &mv.shadows {
+            shadow.copy_back(gl, mv.info, app_fbo, centre as usize);
+        }
+    }
+}
+
 /// `glBindFramebuffer(target, fbo)`: records the app's binding; returns the name GL gets.
 pub fn bind(mv: &mut Multiview, target: GLenum, fbo: u32) -> u32 {
     match target {

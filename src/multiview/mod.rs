@@ -281,6 +281,7 @@ pub fn update_convergence(gl: &crate::gl::Gl, mv: &mut Multiview) {
 /// framebuffer 0 and unshifted programs, so what it draws from now on reaches the window.
 pub fn abandon() {
     with_active(|cur, mv, gl| {
+        framebuffer::hand_back(gl, mv);
         mv.failed = true;
         framebuffer::rebind(gl, mv);
         let views: Vec<(u32, i32)> = cur

@@ -332,6 +332,40 @@ impl ShadowFbo {
         }
     }
 
+    /// The reverse of `fill_from_app` for one layer: the app's own attachments get view
+    /// `layer`'s content (when the layer gives up mid-frame). Same care with selections and
+    /// the scissor test; the caller has the scissor test off.
+    pub fn copy_back(&self, gl: &Gl, info: GlInfo, fbo: u32, layer: usize) {
+        let Some(&view) = self.views.get(layer.min(self.views.len().saturating_sub(1))) else {
+            return;
+        };
+        let (w, h) = self.size;
+        let (draw, read) = buffers(gl, info, fbo);
+        // SAFETY: named blits and selections on the app's framebuffer and our view
+        // framebuffer; the app's selections were read above and are put back.
+        unsafe {
+            let mut ds = 0;
+            for a in &self.attachments {
+                match a.point {
+                    p @ COLOR_ATTACHMENT0..=COLOR_ATTACHMENT7 => {
+                        gl.NamedFramebufferReadBuffer(view, p);
+                        gl.NamedFramebufferDrawBuffer(fbo, p);
+                        gl.BlitNamedFramebuffer(view, fbo, 0, 0, w, h, 0, 0, w, h, COLOR_BUFFER_BIT, NEAREST);
+                    }
+                    DEPTH_ATTACHMENT => ds |= DEPTH_BUFFER_BIT,
+                    STENCIL_ATTACHMENT => ds |= STENCIL_BUFFER_BIT,
+                    DEPTH_STENCIL_ATTACHMENT => ds |= DEPTH_BUFFER_BIT | STENCIL_BUFFER_BIT,
+                    _ => {}
+                }
+            }
+            if ds != 0 {
+                gl.BlitNamedFramebuffer(view, fbo, 0, 0, w, h, 0, 0, w, h, ds, NEAREST);
+            }
+            gl.NamedFramebufferDrawBuffers(fbo, draw.len() as i32, draw.as_ptr());
+            gl.NamedFramebufferReadBuffer(fbo, read as GLenum);
+        }
+    }
+
     pub fn delete(&self, gl: &Gl) {
         // SAFETY: deleting only objects this shadow created.
         unsafe {
