@@ -105,6 +105,38 @@ pub fn once_for(key: (&'static str, u64), l: Level, args: Arguments) {
     emit(l, args)
 }
 
+/// How many messages of one kind `limited` lets through before it goes quiet.
+pub const LIMIT_PER_KIND: u32 = 20;
+
+/// Logs at `l` unless `LIMIT_PER_KIND` messages of this `kind` were already logged; the last
+/// one allowed says that the rest will be suppressed. For conditions that can repeat per
+/// object without bound (a program whose rewrite fails, in an app that links thousands).
+/// Returns whether the message was written.
+pub fn limited(kind: &'static str, l: Level, args: Arguments) -> bool {
+    static COUNTS: std::sync::Mutex<Vec<(&'static str, u32)>> = std::sync::Mutex::new(Vec::new());
+    if !enabled(l) {
+        return false;
+    }
+    let n = {
+        let mut counts = COUNTS.lock().unwrap_or_else(|p| p.into_inner());
+        let i = match counts.iter().position(|(k, _)| *k == kind) {
+            Some(i) => i,
+            None => {
+                counts.push((kind, 0));
+                counts.len() - 1
+            }
+        };
+        counts[i].1 = counts[i].1.saturating_add(1);
+        counts[i].1
+    };
+    match n {
+        n if n < LIMIT_PER_KIND => emit(l, args),
+        LIMIT_PER_KIND => emit(l, format_args!("{args} (further messages of this kind suppressed)")),
+        _ => return false,
+    }
+    true
+}
+
 static ANNOUNCED: AtomicBool = AtomicBool::new(false);
 
 /// The layer's start-up line (info level), printed on the first GL activity. Tests look for
@@ -160,5 +192,25 @@ fn quiet_panics() {
                 .unwrap_or_default();
             error(format_args!("internal panic{at}: {}", what.replace('\n', " ")));
         }));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn limited_messages_stop_after_the_limit() {
+        let written = (0..100)
+            .filter(|i| limited("test-kind", Level::Error, format_args!("message {i}")))
+            .count();
+        assert_eq!(written, LIMIT_PER_KIND as usize);
+        assert!(limited(
+            "other-kind",
+            Level::Error,
+            format_args!("a different kind still logs")
+        ));
+        // Off levels are not counted.
+        assert!(!limited("quiet-kind", Level::Trace, format_args!("not enabled")));
     }
 }

@@ -57,10 +57,14 @@ pub fn remember(id: usize, p: *const c_void) {
 /// What a hook returns when its real function cannot be found (it should never be reached:
 /// we only hand out hooks for functions that exist).
 pub fn missing<R>(id: usize) -> R {
-    crate::log::error(format_args!(
-        "no real {} found; the call is ignored",
-        HOOKS[id].name.to_string_lossy()
-    ));
+    crate::log::once_for(
+        ("missing", id as u64),
+        crate::log::Level::Error,
+        format_args!(
+            "no real {} found; the call is ignored",
+            HOOKS[id].name.to_string_lossy()
+        ),
+    );
     // SAFETY: every hooked return type (integers, raw pointers, unit) is valid when zeroed.
     unsafe { core::mem::zeroed() }
 }

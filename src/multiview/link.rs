@@ -78,9 +78,11 @@ pub fn link_program(gl: &Gl, group: &ShareGroup, program: u32, link: impl Fn()) 
         ok != 0
     };
     if (rewritten || fragment.is_some()) && !linked {
-        crate::log::warn(format_args!(
-            "program {program}: link failed with our edits; linking the app's original"
-        ));
+        crate::log::limited(
+            "link",
+            crate::log::Level::Warn,
+            format_args!("program {program}: link failed with our edits; linking the app's original"),
+        );
         for s in [Some(shader).filter(|_| rewritten), fragment].into_iter().flatten() {
             if let Some(src) = group.lock().original_sources.remove(&s) {
                 compile(gl, s, &src);
@@ -111,9 +113,13 @@ fn rewrite_fragcoord(gl: &Gl, group: &ShareGroup, fs: u32, program: u32) -> Opti
     let original = source_of(gl, fs);
     let new = shader::fragcoord::rewrite(&original).ok()?;
     if !compile(gl, fs, &new) {
-        crate::log::warn(format_args!(
-            "program {program}: fragment shader {fs} with gl_FragCoord mapping does not compile; using the original"
-        ));
+        crate::log::limited(
+            "link",
+            crate::log::Level::Warn,
+            format_args!(
+                "program {program}: fragment shader {fs} with gl_FragCoord mapping does not compile; using the original"
+            ),
+        );
         compile(gl, fs, &original);
         return None;
     }
@@ -140,10 +146,14 @@ fn try_rewrite(
         }
     };
     if !compile(gl, shader, &new) {
-        crate::log::warn(format_args!(
-            "program {program}: rewritten {:?} shader {shader} does not compile; using the original",
-            analysis.stage
-        ));
+        crate::log::limited(
+            "link",
+            crate::log::Level::Warn,
+            format_args!(
+                "program {program}: rewritten {:?} shader {shader} does not compile; using the original",
+                analysis.stage
+            ),
+        );
         compile(gl, shader, original);
         return false;
     }
