@@ -232,3 +232,72 @@ fn destroyed_contexts_leave_no_layer_objects_in_the_share_group() {
         assert_eq!(i6, p6, "{name}: the layer left objects of its own in the share group");
     }
 }
+
+/// The layer's own uniforms never show in the app's introspection: the count, the names by
+/// index (`glGetActiveUniform`, `glGetActiveUniformName`), their types (`glGetActiveUniformsiv`)
+/// and the GL 4.3 interface query list exactly the app's uniforms, at the app's indices.
+#[test]
+fn introspection_lists_only_the_apps_uniforms() {
+    for name in ["cubes", "deferred", "compat120"] {
+        let exe = app(name);
+        let args = ["--backend", "egl", "--size", "160x120", "--frames", "2"];
+        let list = |env: &[(&str, &str)]| {
+            let out = run(&exe, &args, env);
+            assert_success(&out, name);
+            stderr(&out)
+                .lines()
+                .filter(|l| l.starts_with("uniforms of program"))
+                .map(str::to_string)
+                .collect::<Vec<_>>()
+        };
+        let plain = list(&[("HOLOAPPS_LIST_UNIFORMS", "1")]);
+        let lib = layer_lib().to_str().unwrap().to_string();
+        let injected = list(&[
+            ("HOLOAPPS_LIST_UNIFORMS", "1"),
+            ("LD_PRELOAD", lib.as_str()),
+            ("HOLOINJECT_QUILT", "3x3"),
+        ]);
+        assert!(!plain.is_empty(), "{name}: no programs listed");
+        assert!(
+            plain.iter().chain(&injected).all(|l| !l.contains("(inconsistent)")),
+            "{injected:#?}"
+        );
+        // Implicit locations are the linker's to assign, and our uniform takes one: an app's
+        // uniform may sit one location further (apps ask glGetUniformLocation). Within a run,
+        // each name's location must agree between glGetUniformLocation and the interface query.
+        for line in &injected {
+            let (classic, interface) = line.split_once(" | interface: ").unwrap();
+            let locs = |part: &str| -> Vec<String> {
+                part.split_whitespace()
+                    .filter_map(|w| w.split_once('@'))
+                    .map(|(n, l)| format!("{}@{}", n.rsplit(' ').next().unwrap(), l.split(':').next().unwrap()))
+                    .collect()
+            };
+            assert_eq!(
+                locs(classic.split(": ").nth(1).unwrap_or("")),
+                locs(interface),
+                "{line}"
+            );
+        }
+        let without_locations = |l: &Vec<String>| -> Vec<String> {
+            l.iter()
+                .map(|s| {
+                    s.split_whitespace()
+                        .map(|w| w.split('@').next().unwrap().to_string())
+                        .collect::<Vec<_>>()
+                        .join(" ")
+                })
+                .collect()
+        };
+        assert_eq!(
+            without_locations(&injected),
+            without_locations(&plain),
+            "{name}: introspection differs under the layer"
+        );
+        let moved = injected.iter().zip(&plain).filter(|(a, b)| a != b).count();
+        println!(
+            "{name}: {} programs, the same uniforms by index, name and type as the plain run ({moved} with a location moved)",
+            plain.len()
+        );
+    }
+}

@@ -195,15 +195,46 @@ fn record(gl: &Gl, group: &ShareGroup, program: u32, analysis: &shader::Analysis
         "program {program}: {:?}, view uniform at {view_loc}, matrices {:?}",
         analysis.position_kind, analysis.matrix_uniforms
     ));
-    group.lock().programs.insert(
-        program,
-        super::replay::program_info(
-            view_loc,
-            projection_loc,
-            builtin,
-            projection_ubo,
-            analysis.position_kind == shader::PositionKind::Identity,
-            fragcoord_loc,
-        ),
+    let mut info = super::replay::program_info(
+        view_loc,
+        projection_loc,
+        builtin,
+        projection_ubo,
+        analysis.position_kind == shader::PositionKind::Identity,
+        fragcoord_loc,
     );
+    if view_loc >= 0 || fragcoord_loc >= 0 {
+        info.hidden_uniforms = own_uniform_indices(gl, program);
+    }
+    group.lock().programs.insert(program, info);
+}
+
+/// Active-uniform indices of our uniforms in a linked program (found by name, which works from
+/// GL 2.0 and ES 2.0 on).
+fn own_uniform_indices(gl: &Gl, program: u32) -> Vec<u32> {
+    let ours = [shader::VIEW_UNIFORM, shader::fragcoord::FRAGCOORD_UNIFORM];
+    let mut count = 0;
+    let mut found = vec![];
+    let mut name = [0u8; 64];
+    // SAFETY: integer query and name reads into a local buffer of the stated size.
+    unsafe {
+        gl.GetProgramiv(program, ACTIVE_UNIFORMS, &mut count);
+        for i in 0..count.max(0) as u32 {
+            let (mut len, mut size, mut ty) = (0, 0, 0);
+            gl.GetActiveUniform(
+                program,
+                i,
+                name.len() as i32,
+                &mut len,
+                &mut size,
+                &mut ty,
+                name.as_mut_ptr().cast(),
+            );
+            let n = &name[..len.clamp(0, name.len() as i32) as usize];
+            if ours.iter().any(|o| o.as_bytes() == n) {
+                found.push(i);
+            }
+        }
+    }
+    found
 }

@@ -363,5 +363,6 @@ pub fn program_info(
         fragcoord_loc,
         builtin_projection,
         centre_set: false,
+        hidden_uniforms: Vec::new(),
     }
 }

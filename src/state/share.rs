@@ -27,6 +27,9 @@ pub struct ProgramInfo {
     pub identity: bool,
     /// The view uniform holds the centre view's values (so single draws need no update).
     pub centre_set: bool,
+    /// Active-uniform indices of our own uniforms, ascending: hidden from the app's
+    /// introspection, whose indices are renumbered around them.
+    pub hidden_uniforms: Vec<u32>,
 }
 
 #[derive(Default)]

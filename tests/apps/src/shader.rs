@@ -38,8 +38,69 @@ pub fn program(gl: &Gl, vs: &str, fs: &str) -> Result<u32, String> {
         if ok == 0 {
             return Err("shader program link failed".into());
         }
+        if std::env::var_os("HOLOAPPS_LIST_UNIFORMS").is_some() {
+            eprintln!("uniforms of program {p}: {}", active_uniforms(gl, p).join(" "));
+        }
         Ok(p)
     }
+}
+
+/// What introspection tells about a program's uniforms, through every path an engine might
+/// use: the count and `glGetActiveUniform`, `glGetActiveUniformName`, the location of each
+/// name, `glGetActiveUniformsiv` types, and (GL 4.3) the program interface query.
+pub fn active_uniforms(gl: &Gl, p: u32) -> Vec<String> {
+    let mut out = vec![];
+    unsafe {
+        let mut count = 0;
+        gl.GetProgramiv(p, gl::ACTIVE_UNIFORMS, &mut count);
+        let indices: Vec<u32> = (0..count as u32).collect();
+        let mut types = vec![0i32; indices.len()];
+        if count > 0 {
+            gl.GetActiveUniformsiv(p, count, indices.as_ptr(), gl::UNIFORM_TYPE, types.as_mut_ptr());
+        }
+        for (i, &ty) in indices.iter().zip(&types) {
+            let mut buf = [0u8; 128];
+            let (mut len, mut size, mut ty2) = (0, 0, 0);
+            gl.GetActiveUniform(
+                p,
+                *i,
+                buf.len() as i32,
+                &mut len,
+                &mut size,
+                &mut ty2,
+                buf.as_mut_ptr().cast(),
+            );
+            let name = String::from_utf8_lossy(&buf[..len as usize]).into_owned();
+            let mut buf2 = [0u8; 128];
+            let mut len2 = 0;
+            if gl.GetActiveUniformName.is_loaded() {
+                gl.GetActiveUniformName(p, *i, buf2.len() as i32, &mut len2, buf2.as_mut_ptr().cast());
+            }
+            let c = std::ffi::CString::new(name.clone()).unwrap_or_default();
+            let loc = gl.GetUniformLocation(p, c.as_ptr());
+            let same = String::from_utf8_lossy(&buf2[..len2 as usize]) == name && ty == ty2 as i32;
+            out.push(format!(
+                "{name}@{loc}:{ty:#x}{}",
+                if same { "" } else { "(inconsistent)" }
+            ));
+        }
+        if gl.GetProgramInterfaceiv.is_loaded() {
+            let mut n = 0;
+            gl.GetProgramInterfaceiv(p, gl::UNIFORM, gl::ACTIVE_RESOURCES, &mut n);
+            let mut names = vec![];
+            for i in 0..n.max(0) as u32 {
+                let mut buf = [0u8; 128];
+                let mut len = 0;
+                gl.GetProgramResourceName(p, gl::UNIFORM, i, buf.len() as i32, &mut len, buf.as_mut_ptr().cast());
+                let prop = gl::LOCATION;
+                let mut loc = -1;
+                gl.GetProgramResourceiv(p, gl::UNIFORM, i, 1, &prop, 1, std::ptr::null_mut(), &mut loc);
+                names.push(format!("{}@{loc}", String::from_utf8_lossy(&buf[..len as usize])));
+            }
+            out.push(format!("| interface: {}", names.join(" ")));
+        }
+    }
+    out
 }
 
 pub fn uniform(gl: &Gl, prog: u32, name: &str) -> i32 {
