@@ -301,3 +301,64 @@ fn introspection_lists_only_the_apps_uniforms() {
         );
     }
 }
+
+/// Regression: texture targets (which layered shadows need, Mesa refusing GL_TEXTURE_TARGET
+/// queries) were recorded per context, and only where multiview was on, so a render target
+/// created by `churn`'s surfaceless root context and attached to an FBO in another context
+/// of its share group was "target 0x0 is not shadowed"; and they were never forgotten, so a
+/// deleted cube map's name re-created as a 2D render target kept the cube map's target.
+/// Each cycle's FBO must now be shadowed, the quilt's side views show parallax, and the
+/// centre view is the plain image.
+#[test]
+fn render_targets_made_in_another_context_or_under_a_reused_name_are_shadowed() {
+    let dir = temp_dir("shared_texture_targets");
+    let churn = app("churn");
+    // Mesa hands out fresh texture names unless this driconf option makes it reuse freed
+    // ones (as NVIDIA's driver and Mesa's glthread do); `churn` warns when a name was not.
+    let env = [("force_gl_names_reuse", "true")];
+    let variants: [&[&str]; 3] = [
+        &["--root-target"],
+        &["--reuse-name"],
+        &["--root-target", "--reuse-name"],
+    ];
+    for (v, extra) in variants.into_iter().enumerate() {
+        let (plain, injected, dump) = (
+            dir.join(format!("{v}-plain.png")),
+            dir.join(format!("{v}-injected.png")),
+            dir.join(format!("{v}-dump")),
+        );
+        let app_args = |shot: &std::path::Path| {
+            let mut a = vec!["--size", "160x120", "--cycles", "2", "--screenshot"];
+            a.push(shot.to_str().unwrap());
+            a.extend(extra);
+            a.into_iter().map(str::to_string).collect::<Vec<_>>()
+        };
+        let args = app_args(&plain);
+        let out = run(&churn, &args.iter().map(String::as_str).collect::<Vec<_>>(), &env);
+        assert_success(&out, &format!("plain churn {extra:?}"));
+        let mut args = ["run", "--quilt", "3x3", "--log", "info", "--depthiness", "0.1"]
+            .map(str::to_string)
+            .to_vec();
+        args.extend(["--convergence", "0.01", "--dump", dump.to_str().unwrap()].map(str::to_string));
+        args.extend(["--dump-frames", "6", "--", churn.to_str().unwrap()].map(str::to_string));
+        args.extend(app_args(&injected));
+        let out = run(&launcher(), &args.iter().map(String::as_str).collect::<Vec<_>>(), &env);
+        assert_success(&out, &format!("churn {extra:?} under the layer"));
+        let err = stderr(&out);
+        let shadowed = err.lines().filter(|l| l.contains(" shadowed with 9 layers")).count();
+        let not = err.lines().filter(|l| l.contains("not shadowed")).count();
+        println!("churn {extra:?}: {shadowed} framebuffers shadowed, {not} 'not shadowed' lines");
+        assert!(!err.contains("warning: render target got texture name"), "{err}");
+        assert_eq!((shadowed, not), (2, 0), "one shadow per cycle's FBO expected:\n{err}");
+        assert_identical(&plain, &injected);
+        // Side views shifted as the cubes' depth says (convergence at the camera: every
+        // pixel moves away from the centre view, more with distance from it).
+        let q = read_png(&dump.join("f000006_qs3x3a1.3333.png"));
+        let centre = tile(&q, 3, 3, 4);
+        let shifts: Vec<i32> = [5, 8]
+            .map(|i| horizontal_shift(&centre, &tile(&q, 3, 3, i), 20).abs())
+            .to_vec();
+        println!("churn {extra:?}: views 5 and 8 shifted by {shifts:?} px from the centre");
+        assert!(shifts[0] > 0 && shifts[1] > shifts[0], "no parallax: {shifts:?}");
+    }
+}

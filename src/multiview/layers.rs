@@ -9,8 +9,6 @@ use crate::gl::*;
 pub struct TextureUnits {
     pub active: u32,
     pub bound_2d: Vec<u32>,
-    /// The target each texture name was first bound to (created with).
-    pub targets: std::collections::HashMap<u32, GLenum>,
 }
 
 impl TextureUnits {
@@ -123,8 +121,10 @@ pub fn ensure_shadow(gl: &Gl, mv: &mut Multiview, fbo: u32, why: &str) -> Option
         return None;
     }
     let n = mv.rig.views;
-    let targets = &mv.units.targets;
-    match ShadowFbo::create(gl, mv.info, fbo, n, |t| targets.get(&t).copied().unwrap_or(0)) {
+    // Texture targets are the share group's: the attachments may come from another context.
+    let group = crate::state::with_current(|cur| cur.map(|cur| cur.ctx.group.clone()));
+    let target_of = |t| group.as_ref().map_or(0, |g| g.textures.target_of(t));
+    match ShadowFbo::create(gl, mv.info, fbo, n, target_of) {
         Ok(s) => {
             crate::log::info(format_args!(
                 "framebuffer {fbo} shadowed with {n} layers ({}x{}): {why}",

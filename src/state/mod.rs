@@ -9,6 +9,7 @@
 mod context;
 pub mod orphans;
 pub mod share;
+pub mod textures;
 
 pub use context::{Binding, Context, GlInfo, Platform};
 pub use share::ShareGroup;

@@ -1,8 +1,10 @@
 //! Objects shared by every context of a share group: programs (with what the layer learned
 //! about them at link time), the app's sources of shaders we rewrote, the tracked values
-//! of matrix uniforms, and the layer objects destroyed contexts left behind (see `orphans`).
+//! of matrix uniforms, the target of each texture name (see `textures`), and the layer
+//! objects destroyed contexts left behind (see `orphans`).
 
 use super::orphans::LayerObjects;
+use super::textures::TextureTargets;
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Mutex, MutexGuard};
@@ -45,6 +47,8 @@ pub struct GroupState {
 pub struct ShareGroup {
     pub id: u64,
     state: Mutex<GroupState>,
+    /// Texture targets, under their own lock (recorded on first binds, read per shadow).
+    pub textures: TextureTargets,
     orphans: Mutex<LayerObjects>,
     /// `orphans` is not empty (checked without locking at every make-current and swap).
     has_orphans: AtomicBool,
@@ -54,6 +58,7 @@ impl ShareGroup {
     pub fn new(id: u64) -> ShareGroup {
         ShareGroup {
             id,
+            textures: TextureTargets::new(id),
             ..Default::default()
         }
     }

@@ -12,15 +12,22 @@ pub fn glActiveTexture(real: impl Fn(GLenum), texture: GLenum) {
     real(texture)
 }
 
+/// Runs `f` with the share group of the calling thread's current context, whether or not
+/// multiview is on for that context (a surfaceless root context creates what others draw
+/// into); nothing at all when the layer is pass-through.
+fn with_group(f: impl FnOnce(&crate::state::ShareGroup)) {
+    if crate::config::settings().multiview() {
+        crate::state::with_current(|cur| cur.map(|cur| f(&cur.ctx.group)));
+    }
+}
+
 pub fn glBindTexture(real: impl Fn(GLenum, GLuint), target: GLenum, texture: GLuint) {
-    with_active(|_, mv, _| {
-        if texture != 0 {
-            mv.units.targets.entry(texture).or_insert(target);
-        }
-        if target == crate::gl::TEXTURE_2D {
-            mv.units.bind(mv.units.active, texture);
-        }
-    });
+    if texture != 0 {
+        with_group(|g| g.textures.bound(target, texture));
+    }
+    if target == crate::gl::TEXTURE_2D {
+        with_active(|_, mv, _| mv.units.bind(mv.units.active, texture));
+    }
     real(target, texture)
 }
 
@@ -31,11 +38,7 @@ pub fn glCreateTextures(
     textures: *mut GLuint,
 ) {
     real(target, n, textures);
-    with_active(|_, mv, _| {
-        names(n, textures)
-            .iter()
-            .for_each(|&t| _ = mv.units.targets.insert(t, target))
-    });
+    with_group(|g| g.textures.created(target, names(n, textures)));
 }
 
 pub fn glBindTextureUnit(real: impl Fn(GLuint, GLuint), unit: GLuint, texture: GLuint) {
@@ -218,6 +221,7 @@ pub fn glDeleteFramebuffers(real: impl Fn(GLsizei, *const GLuint), n: GLsizei, f
 }
 
 pub fn glDeleteTextures(real: impl Fn(GLsizei, *const GLuint), n: GLsizei, textures: *const GLuint) {
+    with_group(|g| g.textures.deleted(names(n, textures)));
     with_active(|_, mv, gl| {
         let gone = names(n, textures);
         forget(gl, mv, |_, s| gone.iter().any(|&t| s.owns(t, false)));

@@ -10,7 +10,11 @@
 //! `--hand-over-target` B leaves its offscreen colour texture and depth renderbuffer alive
 //! (a worker context rendering into a texture that outlives it), and A, made current after
 //! each cycle, deletes them; with `--destroy-current` B is destroyed while still current
-//! and only then released. At the end A counts the shared objects still alive
+//! and only then released. With `--root-target` the root context, made current before
+//! each cycle, creates B's offscreen colour texture (glGenTextures + glBindTexture +
+//! glTexImage2D), so B renders into a texture it never bound before attaching it; with
+//! `--reuse-name` that texture takes the name of a cube map made and deleted just before
+//! (in the root with `--root-target`, else in B). At the end A counts the shared objects still alive
 //! (names 1..=4096) and prints one line on stdout:
 //! `objects textures=T buffers=B renderbuffers=R programs=P shaders=S samplers=M`.
 //! A plain run prints the same line for any N, so anything a layer leaves behind in the
@@ -50,6 +54,14 @@ the FBO's attachments) and is destroyed. At exit one line on stdout:
         (
             "destroy-current",
             "destroy each context while it is still current, then release it (EGL defers the destruction)",
+        ),
+        (
+            "root-target",
+            "the root context creates each cycle's offscreen colour texture; the cycle's context attaches and renders into it",
+        ),
+        (
+            "reuse-name",
+            "the offscreen colour texture takes the name of a cube map created and deleted just before",
         ),
     ],
 };
@@ -103,7 +115,12 @@ fn cycle(
     last: bool,
 ) -> Result<Option<(u32, u32)>, String> {
     let hand_over = o.switches.contains("hand-over-target");
+    let reuse_name = o.switches.contains("reuse-name");
     let frames = if o.frames == 0 { 3 } else { o.frames };
+    let colour = match o.switches.contains("root-target") {
+        true => Some(root_colour_target(d, gl, root.0, o.size, reuse_name)?),
+        false => None,
+    };
     let surface = d.create_pbuffer(o.size)?;
     let ctx = match d.create_context(Some(root.0)) {
         Ok(c) => c,
@@ -114,7 +131,7 @@ fn cycle(
     };
     let result = (|| {
         d.make_current(Some((surface, ctx)))?;
-        let scene = Scene::new(gl, root.1, n, o.size)?;
+        let scene = Scene::new(gl, root.1, (n, o.size), colour, reuse_name)?;
         for f in 0..frames {
             scene.render(gl, root.1, n * frames + f, o.size);
             if let Some(path) = o.screenshot.as_ref().filter(|_| last && f + 1 == frames) {
@@ -136,6 +153,22 @@ fn cycle(
     }
     d.destroy_surface(surface);
     released.and(result)
+}
+
+/// The root context creates the next cycle's offscreen colour texture.
+fn root_colour_target(
+    d: &EglHeadlessDisplay,
+    gl: &Gl,
+    root: EglHandle,
+    size: (u32, u32),
+    reuse_name: bool,
+) -> Result<u32, String> {
+    d.make_current_surfaceless(root)?;
+    let colour = scene::colour_target(gl, (size.0 as i32, size.1 as i32), reuse_name);
+    // Complete before the cycle's context attaches it.
+    unsafe { gl.Finish() };
+    d.make_current(None)?;
+    Ok(colour)
 }
 
 /// The root context takes over what a cycle left it, and deletes it.

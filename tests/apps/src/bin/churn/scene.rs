@@ -93,15 +93,43 @@ fn pattern_texture(gl: &Gl, n: usize, cell: usize, colours: [[u8; 3]; 2], filter
     tex
 }
 
-/// Offscreen colour texture (RGBA8, linear) and depth renderbuffer (DEPTH24).
-fn target(gl: &Gl, size: (i32, i32)) -> (u32, u32) {
-    let colour = multipass::texture(gl, gl::RGBA8, size, gl::RGBA, gl::UNSIGNED_BYTE, gl::LINEAR, None);
+/// Offscreen colour texture (RGBA8, linear) and depth renderbuffer (DEPTH24); the colour
+/// texture is `colour` when another context made it.
+fn target(gl: &Gl, size: (i32, i32), colour: Option<u32>, reuse_name: bool) -> (u32, u32) {
+    let colour = colour.unwrap_or_else(|| colour_target(gl, size, reuse_name));
     let depth = multipass::renderbuffer(gl, gl::DEPTH_COMPONENT24, 0, size);
-    unsafe {
-        gl.BindTexture(gl::TEXTURE_2D, 0);
-        gl.BindRenderbuffer(gl::RENDERBUFFER, 0);
-    }
+    unsafe { gl.BindRenderbuffer(gl::RENDERBUFFER, 0) };
     (colour, depth)
+}
+
+/// The offscreen colour texture (RGBA8, linear), made with glGenTextures + glBindTexture +
+/// glTexImage2D. With `reuse_name`, a cube map is made and deleted first, so the colour
+/// texture gets a name that was a cube map's a moment ago (GL reuses freed names; a warning
+/// on stderr says when it did not).
+pub fn colour_target(gl: &Gl, size: (i32, i32), reuse_name: bool) -> u32 {
+    let cube = if reuse_name { cube_map(gl) } else { 0 };
+    let colour = multipass::texture(gl, gl::RGBA8, size, gl::RGBA, gl::UNSIGNED_BYTE, gl::LINEAR, None);
+    unsafe { gl.BindTexture(gl::TEXTURE_2D, 0) };
+    if reuse_name && colour != cube {
+        eprintln!("warning: render target got texture name {colour}, not the deleted cube map's {cube}");
+    }
+    colour
+}
+
+/// A 4x4 RGBA8 cube map, created and deleted; returns its (now free) name.
+fn cube_map(gl: &Gl) -> u32 {
+    let mut cube = 0;
+    unsafe {
+        gl.GenTextures(1, &mut cube);
+        gl.BindTexture(gl::TEXTURE_CUBE_MAP, cube);
+        for face in 0..6 {
+            let (f, ty) = (gl::TEXTURE_CUBE_MAP_POSITIVE_X + face, gl::UNSIGNED_BYTE);
+            gl.TexImage2D(f, 0, gl::RGBA8 as i32, 4, 4, 0, gl::RGBA, ty, std::ptr::null());
+        }
+        gl.BindTexture(gl::TEXTURE_CUBE_MAP, 0);
+        gl.DeleteTextures(1, &cube);
+    }
+    cube
 }
 
 /// VAO of the root context's cube mesh: position (0) + normal (1), 6 floats a vertex.
@@ -157,7 +185,15 @@ pub struct Scene {
 }
 
 impl Scene {
-    pub fn new(gl: &Gl, root: &Root, cycle: u64, size: (u32, u32)) -> Result<Scene, String> {
+    /// `colour`: the offscreen colour texture when another context made it; `reuse_name`:
+    /// else make it under a just-deleted cube map's name.
+    pub fn new(
+        gl: &Gl,
+        root: &Root,
+        (cycle, size): (u64, (u32, u32)),
+        colour: Option<u32>,
+        reuse_name: bool,
+    ) -> Result<Scene, String> {
         let prog = shader::program(gl, VS, FS)?;
         let post = shader::program(gl, multipass::QUAD_VS, POST_FS)?;
         let names = ["projection", "view", "model", "tint", "lightDir", "checker", "detail"];
@@ -181,7 +217,7 @@ impl Scene {
             gl.SamplerParameteri(sampler, gl::TEXTURE_MIN_FILTER, gl::NEAREST as i32);
             gl.SamplerParameteri(sampler, gl::TEXTURE_MAG_FILTER, gl::NEAREST as i32);
         }
-        let target = self::target(gl, (size.0 as i32, size.1 as i32));
+        let target = self::target(gl, (size.0 as i32, size.1 as i32), colour, reuse_name);
         let (colour, depth) = (Attachment::Texture(target.0), Attachment::Renderbuffer(target.1));
         let fbo = multipass::framebuffer(gl, "offscreen", &[colour], Some(depth))?;
         Ok(Scene {
