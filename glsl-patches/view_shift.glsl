@@ -1,6 +1,7 @@
 // holoinject: per-view clip-space camera shift (DESIGN.md section 3).
-// holoinject_view = (k, c, h, mode); mode 0 perspective, 1 orthographic,
-// 2 unknown projection (w == 1 means orthographic), 3 perspective with reversed-Z.
+// holoinject_view = (k, c, h, mode); mode 0 perspective (infinite far plane or depth
+// unknown), 1 orthographic, 2 unknown projection (w == 1 means orthographic), 3 perspective
+// with reversed-Z, 4 perspective with a finite far plane.
 // Valid GLSL 1.10 .. 4.60 and ES 1.00 .. 3.20: no const initialisers, no f suffixes,
 // precision only under GL_ES (an app's `precision mediump float;` must not reach the shift).
 #ifdef GL_ES
@@ -18,8 +19,10 @@ HOLOINJECT_HIGHP vec4 holoinject_shift(HOLOINJECT_HIGHP vec4 holoinject_p)
     if (holoinject_mode == 1.0 || (holoinject_mode == 2.0 && holoinject_p.w == 1.0))
         return holoinject_p;
     HOLOINJECT_HIGHP float holoinject_far_z = holoinject_mode == 3.0 ? 0.0 : holoinject_p.w;
-    // Far-plane vertices (.xyww skyboxes) are at infinity: no convergence term.
-    bool holoinject_at_far = abs(holoinject_p.z - holoinject_far_z) <= 1e-6 * abs(holoinject_p.w);
+    // Far-plane vertices (.xyww skyboxes) are at infinity: no convergence term. Only an
+    // infinite (or unknown) projection puts them a few ulps off the plane.
+    HOLOINJECT_HIGHP float holoinject_tol = holoinject_mode == 0.0 || holoinject_mode == 2.0 ? 1e-6 : 0.0;
+    bool holoinject_at_far = abs(holoinject_p.z - holoinject_far_z) <= holoinject_tol * abs(holoinject_p.w);
     HOLOINJECT_HIGHP float holoinject_c = holoinject_at_far ? 0.0 : holoinject_view.y;
     holoinject_p.x += holoinject_view.x * (holoinject_p.w - holoinject_c) + holoinject_view.z * holoinject_p.w;
     return holoinject_p;

@@ -133,6 +133,7 @@ struct Measured {
 }
 
 /// The shader's far-plane test (`glsl-patches/view_shift.glsl`), evaluated on its f32 inputs.
+/// (For infinite or unknown projections; finite and reversed-Z ones are tested exactly.)
 const FAR_TOLERANCE: f64 = 1e-6;
 
 fn measure(gl: &Gl, plain: u32, rewritten: u32, case: &Case) -> Measured {
@@ -141,13 +142,14 @@ fn measure(gl: &Gl, plain: u32, rewritten: u32, case: &Case) -> Measured {
     let inv_v = invert(&case.v).unwrap();
     let world: Vec<[f64; 4]> = case.depths.iter().map(|&d| point(&inv_v, d)).collect();
     let points: Vec<[f32; 4]> = world.iter().map(|p| p.map(|x| x as f32)).collect();
-    let reversed = classify(&m32).and_then(|p| p.depth).is_some_and(|d| d.a > 0.0);
-    let mode = if reversed {
-        ViewMode::PerspectiveReversedZ
-    } else {
-        ViewMode::Perspective
-    }
-    .as_uniform();
+    // The mode the layer sends for this matrix, and the far-plane test it makes the shader do.
+    let view_mode = ViewMode::of(classify(&m32).as_ref());
+    let mode = view_mode.as_uniform();
+    let reversed = view_mode == ViewMode::PerspectiveReversedZ;
+    let tolerance = match view_mode {
+        ViewMode::Perspective | ViewMode::Unknown => FAR_TOLERANCE,
+        _ => 0.0,
+    };
     let rig = rig_for(&case.depths);
 
     // Centre view: bit-identical to the app's own shader.
@@ -179,7 +181,7 @@ fn measure(gl: &Gl, plain: u32, rewritten: u32, case: &Case) -> Measured {
         let (x, z, w) = (o[0] as f64, o[2] as f64, o[3] as f64);
         let got = s[0] as f64 / s[3] as f64;
         let far_z = if reversed { 0.0 } else { w };
-        let at_far = (z - far_z).abs() <= FAR_TOLERANCE * w.abs();
+        let at_far = (z - far_z).abs() <= tolerance * w.abs();
         let c_used = if at_far { 0.0 } else { cc };
         let want = (x + k * (w - c_used) + h * w) / w;
         r.shader_px = r.shader_px.max((got - want).abs() * TILE_HALF_WIDTH);

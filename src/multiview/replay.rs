@@ -10,22 +10,18 @@ use super::layout::{QuiltLayout, intersect};
 use super::{layers, screen_space};
 use crate::camera::projection::{self, ProjectionKind};
 use crate::gl::*;
+use crate::shader::ViewMode;
 use crate::state::ShareGroup;
 use crate::state::share::ProgramInfo;
 
 /// Shader-side projection mode (see `glsl-patches/view_shift.glsl`).
 #[derive(Clone, Copy, Debug, PartialEq)]
-enum Mode {
-    Perspective = 0,
-    Orthographic = 1,
-    Unknown = 2,
-}
 
 /// How a draw's views differ.
 enum Shift {
     /// `holoinject_view` at this location; `camera`: the draw is seen through the main
     /// camera (not a full-screen pass with positions given in NDC).
-    Uniform { loc: i32, mode: Mode, camera: bool },
+    Uniform { loc: i32, mode: ViewMode, camera: bool },
     /// Fixed function: the app's projection, sheared per view.
     Projection([f32; 16]),
     /// Nothing view-dependent (orthographic fixed function, or a program we left alone).
@@ -36,7 +32,7 @@ impl Shift {
     /// A draw that makes its target view-dependent.
     fn camera(&self) -> bool {
         match self {
-            Shift::Uniform { mode, camera, .. } => *camera && *mode != Mode::Orthographic,
+            Shift::Uniform { mode, camera, .. } => *camera && *mode != ViewMode::Orthographic,
             Shift::Projection(_) => true,
             Shift::None => false,
         }
@@ -57,9 +53,9 @@ fn program_name(program: u32) -> String {
     }
 }
 
-fn mode_of(matrix: Option<[f32; 16]>, mv: &mut Multiview) -> Mode {
+fn mode_of(matrix: Option<[f32; 16]>, mv: &mut Multiview) -> ViewMode {
     match matrix.and_then(|m| projection::classify(&m)) {
-        Some(p) if p.kind == ProjectionKind::Orthographic => Mode::Orthographic,
+        Some(p) if p.kind == ProjectionKind::Orthographic => ViewMode::Orthographic,
         Some(p) => {
             let m = matrix.unwrap_or_default();
             if m[3] == 0.0 && m[7] == 0.0 && m[15] == 0.0 && m[11] < 0.0 {
@@ -81,18 +77,19 @@ fn mode_of(matrix: Option<[f32; 16]>, mv: &mut Multiview) -> Mode {
                 }
                 mv.last_depth = p.depth;
                 mv.last_fx = p.fx.or(mv.last_fx);
-            } else if let Some(issue) = p.issue {
+            }
+            if let Some(issue) = p.issue {
                 crate::log::once_for(
                     ("depth-issue", u64::from(mv.program)),
                     crate::log::Level::Info,
                     format_args!(
-                        "{}: its projection has a {issue}: its depth is not linearised \
-                         (the shift stays exact; auto-convergence and --view-cone use the last good projection)",
+                        "{}: its projection has a {issue} (the shift stays exact; what cannot be \
+                         read from it comes from the last good projection)",
                         program_name(mv.program)
                     ),
                 );
             }
-            Mode::Perspective
+            ViewMode::of(Some(&p))
         }
         None => {
             crate::log::once_for(
@@ -103,7 +100,7 @@ fn mode_of(matrix: Option<[f32; 16]>, mv: &mut Multiview) -> Mode {
                     program_name(mv.program)
                 ),
             );
-            Mode::Unknown
+            ViewMode::Unknown
         }
     }
 }
@@ -114,7 +111,7 @@ fn shift_for(gl: &Gl, mv: &mut Multiview, group: &ShareGroup) -> Shift {
             return Shift::None;
         }
         return match fixed_function_projection(gl) {
-            Some(p) if mode_of(Some(p), mv) == Mode::Perspective => Shift::Projection(p),
+            Some(p) if mode_of(Some(p), mv).is_perspective() => Shift::Projection(p),
             _ => Shift::None,
         };
     }
@@ -157,15 +154,15 @@ fn ubo_projection(gl: &Gl, info: &mut ProgramInfo, program: u32, m: super::ubo::
     Some(value)
 }
 
-fn set_view_uniform(gl: &Gl, mv: &Multiview, loc: i32, i: u32, mode: Mode) {
+fn set_view_uniform(gl: &Gl, mv: &Multiview, loc: i32, i: u32, mode: ViewMode) {
     let v = mv.rig.params(i);
     // SAFETY: `loc` belongs to the program current in this context (ProgramUniform when
     // available, so separable pipelines work too).
     unsafe {
         if gl.ProgramUniform4f.is_loaded() {
-            gl.ProgramUniform4f(mv.program, loc, v.k, v.c, v.h, mode as i32 as f32);
+            gl.ProgramUniform4f(mv.program, loc, v.k, v.c, v.h, mode.as_uniform());
         } else {
-            gl.Uniform4f(loc, v.k, v.c, v.h, mode as i32 as f32);
+            gl.Uniform4f(loc, v.k, v.c, v.h, mode.as_uniform());
         }
     }
 }
@@ -182,7 +179,7 @@ fn draw_single(gl: &Gl, mv: &Multiview, group: &ShareGroup, f: impl Fn()) {
             p.centre_set = true;
             let loc = p.view_loc;
             drop(state);
-            set_view_uniform(gl, mv, loc, mv.rig.centre(), Mode::Unknown);
+            set_view_uniform(gl, mv, loc, mv.rig.centre(), ViewMode::Unknown);
         }
     }
     f()

@@ -60,20 +60,43 @@ pub const VIEW_SHIFT_GLSL: &str = include_str!("../../glsl-patches/view_shift.gl
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[repr(u8)]
 pub enum ViewMode {
-    /// Shift; far-plane vertices (`z == w`) are at infinity: `x += k*w + h*w`.
+    /// Shift; far-plane vertices (`z` within 1e-6·w of `w`) are at infinity: `x += k*w + h*w`.
+    /// For an infinite far plane, or a perspective whose depth model is unknown: directions
+    /// (`w = 0` positions) through an infinite projection land a few ulps off `z == w`.
     Perspective = 0,
     /// No shift at all: the screen plane.
     Orthographic = 1,
-    /// Projection unknown: no shift where `w == 1.0` exactly, else as perspective.
+    /// Projection unknown: no shift where `w == 1.0` exactly, else as `Perspective`.
     Unknown = 2,
-    /// Perspective with reversed-Z: the far plane is `z == 0`.
+    /// Perspective with reversed-Z: the far plane is exactly `z == 0`.
     PerspectiveReversedZ = 3,
+    /// Perspective with a finite far plane: far-plane geometry (`.xyww`) has exactly
+    /// `z == w`, so no tolerance takes distant scene geometry for sky.
+    PerspectiveFiniteFar = 4,
 }
 
 impl ViewMode {
     /// The float to store in `holoinject_view.w`.
     pub fn as_uniform(self) -> f32 {
         self as u8 as f32
+    }
+
+    /// The mode for a draw whose tracked matrix classified as `p` (`None`: no usable matrix).
+    pub fn of(p: Option<&crate::camera::projection::Projection>) -> ViewMode {
+        use crate::camera::projection::ProjectionKind;
+        match p {
+            None => ViewMode::Unknown,
+            Some(p) if p.kind == ProjectionKind::Orthographic => ViewMode::Orthographic,
+            Some(p) => match p.depth {
+                Some(d) if d.a > 0.0 => ViewMode::PerspectiveReversedZ,
+                Some(d) if d.far().is_finite() => ViewMode::PerspectiveFiniteFar,
+                _ => ViewMode::Perspective,
+            },
+        }
+    }
+
+    pub fn is_perspective(self) -> bool {
+        !matches!(self, ViewMode::Orthographic | ViewMode::Unknown)
     }
 }
 
