@@ -26,9 +26,23 @@ pub struct Program<'a> {
     pub globals: HashMap<String, Sym>,
     pub functions: HashMap<String, Vec<&'a ast::FunctionDefinition>>,
     structs: HashMap<String, Vec<StructFieldSpecifier>>,
+    /// User-function bodies evaluated so far (see `spend_call`).
+    calls: std::cell::Cell<u32>,
 }
 
+/// Most user-function bodies one analysis evaluates. Real shaders need tens; a function that
+/// calls itself several times (illegal, but fuzzing made one) would otherwise cost
+/// calls^depth walks: seconds at link time.
+const CALL_BUDGET: u32 = 2000;
+
 impl<'a> Program<'a> {
+    /// Takes one user-function evaluation from the budget; false once it is spent.
+    pub fn spend_call(&self) -> bool {
+        let used = self.calls.get();
+        self.calls.set(used.saturating_add(1));
+        used < CALL_BUDGET
+    }
+
     pub fn collect(tu: &'a ast::TranslationUnit) -> Program<'a> {
         let mut prog = Program::default();
         for decl in &tu.0 {

@@ -267,7 +267,7 @@ impl<'p, 'a> Scope<'p, 'a> {
 
     /// The value a user function returns, with its parameters bound to the arguments.
     fn eval_user_call(&self, defs: &[&ast::FunctionDefinition], args: &[ast::Expr]) -> Info {
-        if self.depth >= 8 {
+        if self.depth >= 8 || !self.prog.spend_call() {
             return Info::unknown(); // recursion is illegal GLSL, but no input may hang us
         }
         let arg_infos: Vec<Info> = args.iter().map(|a| self.eval(a)).collect();

@@ -116,7 +116,7 @@ fn fuzz_regressions_finish_without_panics() {
             let _ = super::parse_error(&source);
             tx.send(()).unwrap();
         });
-        let done = rx.recv_timeout(std::time::Duration::from_secs(20));
+        let done = rx.recv_timeout(std::time::Duration::from_secs(5));
         assert!(done.is_ok(), "analysis did not finish (or panicked) on {shown:?}");
     }
 }
