@@ -237,26 +237,6 @@ fn injected_shift_on_mesa_matches_f64_at_the_extremes() {
     }
 }
 
-/// Mesa's verdict on one shader: `Err(info log)` when it does not compile.
-fn compile(gl: &Gl, kind: u32, src: &str) -> Result<(), String> {
-    let c = CString::new(src).map_err(|_| "NUL in source".to_string())?;
-    unsafe {
-        let s = gl.CreateShader(kind);
-        gl.ShaderSource(s, 1, &c.as_ptr(), std::ptr::null());
-        gl.CompileShader(s);
-        let mut ok = 0;
-        gl.GetShaderiv(s, gl::COMPILE_STATUS, &mut ok);
-        let mut log = vec![0u8; 4096];
-        let mut len = 0;
-        gl.GetShaderInfoLog(s, log.len() as i32, &mut len, log.as_mut_ptr().cast());
-        gl.DeleteShader(s);
-        match ok {
-            0 => Err(String::from_utf8_lossy(&log[..len.max(0) as usize]).into_owned()),
-            _ => Ok(()),
-        }
-    }
-}
-
 /// The `glsl_compiles` fuzz target's promise, in every test run: each shader the sample apps
 /// and the real programs of the tests compile (the fuzz seed corpus, collected by
 /// `scripts/fuzz.sh seeds`) and each input fuzzing found, when Mesa compiles it, still
@@ -291,14 +271,14 @@ fn rewrites_of_shaders_mesa_compiles_compile_too() {
             2 => (Stage::TessEval, gl::TESS_EVALUATION_SHADER),
             _ => continue,
         };
-        if compile(gl, kind, source).is_err() {
+        if holoapps::shader::compile_status(gl, kind, source).is_err() {
             continue;
         }
         compiled += 1;
         match rewrite(source, &analyse(source, stage)) {
             Ok(out) => {
                 rewritten += 1;
-                if let Err(log) = compile(gl, kind, &out) {
+                if let Err(log) = holoapps::shader::compile_status(gl, kind, &out) {
                     panic!("{}: Mesa compiles it but not its rewrite: {log}\n{out}", path.display());
                 }
             }

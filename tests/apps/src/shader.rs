@@ -24,6 +24,41 @@ fn shader_log(gl: &Gl, s: u32) -> String {
     String::from_utf8_lossy(&buf[..len as usize]).into_owned()
 }
 
+/// A lit cube whose faces carry texture coordinates (the two coordinates across each face),
+/// shared by the apps that texture their cubes with a render target.
+pub const TEXTURED_CUBE_VS: &str = r#"#version 330 core
+layout (location = 0) in vec3 aPos;
+layout (location = 1) in vec3 aNormal;
+uniform mat4 model;
+uniform mat4 view;
+uniform mat4 projection;
+out vec3 Normal;
+out vec2 Uv;
+void main() {
+    Normal = mat3(transpose(inverse(model))) * aNormal;
+    // Unit cube: the two coordinates across the face are the texture coordinates.
+    vec3 n = abs(aNormal);
+    Uv = (n.x > 0.5 ? aPos.zy : n.y > 0.5 ? aPos.xz : aPos.xy) + 0.5;
+    gl_Position = projection * view * model * vec4(aPos, 1.0);
+}
+"#;
+
+/// Mesa's verdict on one shader, compiled on its own: `Err(info log)` when it does not
+/// compile. The shader object is deleted either way.
+pub fn compile_status(gl: &Gl, kind: u32, src: &str) -> Result<(), String> {
+    let c = CString::new(src).map_err(|_| "NUL in source".to_string())?;
+    unsafe {
+        let s = gl.CreateShader(kind);
+        gl.ShaderSource(s, 1, &c.as_ptr(), std::ptr::null());
+        gl.CompileShader(s);
+        let mut ok = 0;
+        gl.GetShaderiv(s, gl::COMPILE_STATUS, &mut ok);
+        let log = shader_log(gl, s);
+        gl.DeleteShader(s);
+        if ok != 0 { Ok(()) } else { Err(log) }
+    }
+}
+
 pub fn program(gl: &Gl, vs: &str, fs: &str) -> Result<u32, String> {
     unsafe {
         let p = gl.CreateProgram();

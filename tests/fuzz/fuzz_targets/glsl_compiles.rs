@@ -7,7 +7,6 @@ use holoapps::gl::{self, Gl};
 use holoapps::platform::{Platform, Profile, create};
 use holoinject::shader::{Stage, analyse, fragcoord, rewrite};
 use libfuzzer_sys::fuzz_target;
-use std::ffi::CString;
 use std::sync::OnceLock;
 
 struct Mesa {
@@ -33,22 +32,6 @@ fn mesa() -> &'static Mesa {
     })
 }
 
-/// Mesa's verdict: `Err(info log)` when the shader does not compile.
-fn compile(gl: &Gl, kind: u32, src: &str) -> Result<(), String> {
-    let c = CString::new(src).map_err(|_| "NUL in source".to_string())?;
-    unsafe {
-        let s = gl.CreateShader(kind);
-        gl.ShaderSource(s, 1, &c.as_ptr(), std::ptr::null());
-        gl.CompileShader(s);
-        let mut ok = 0;
-        gl.GetShaderiv(s, gl::COMPILE_STATUS, &mut ok);
-        let mut log = vec![0u8; 4096];
-        let mut len = 0;
-        gl.GetShaderInfoLog(s, log.len() as i32, &mut len, log.as_mut_ptr().cast());
-        gl.DeleteShader(s);
-        if ok != 0 { Ok(()) } else { Err(String::from_utf8_lossy(&log[..len.max(0) as usize]).into_owned()) }
-    }
-}
 
 fuzz_target!(|data: &[u8]| {
     let Some((&first, rest)) = data.split_first() else { return };
@@ -61,17 +44,17 @@ fuzz_target!(|data: &[u8]| {
         _ => (Stage::Fragment, gl::FRAGMENT_SHADER),
     };
     let gl = &mesa().gl;
-    if compile(gl, kind, source).is_err() {
+    if holoapps::shader::compile_status(gl, kind, source).is_err() {
         return;
     }
     if stage == Stage::Fragment {
         if let Ok(out) = fragcoord::rewrite(source) {
-            if let Err(log) = compile(gl, kind, &out) {
+            if let Err(log) = holoapps::shader::compile_status(gl, kind, &out) {
                 panic!("valid shader broken by the gl_FragCoord rewrite: {log}\n{out}");
             }
         }
     } else if let Ok(out) = rewrite(source, &analyse(source, stage)) {
-        if let Err(log) = compile(gl, kind, &out) {
+        if let Err(log) = holoapps::shader::compile_status(gl, kind, &out) {
             panic!("valid shader broken by the rewrite: {log}\n{out}");
         }
     }

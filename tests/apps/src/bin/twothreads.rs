@@ -35,23 +35,6 @@ extern "C" fn on_signal(_: libc::c_int) {
     STOP.store(true, Ordering::SeqCst);
 }
 
-const VS: &str = r#"#version 330 core
-layout (location = 0) in vec3 aPos;
-layout (location = 1) in vec3 aNormal;
-uniform mat4 model;
-uniform mat4 view;
-uniform mat4 projection;
-out vec3 Normal;
-out vec2 Uv;
-void main() {
-    Normal = mat3(transpose(inverse(model))) * aNormal;
-    // Unit cube: the two coordinates across the face are the texture coordinates.
-    vec3 n = abs(aNormal);
-    Uv = (n.x > 0.5 ? aPos.zy : n.y > 0.5 ? aPos.xz : aPos.xy) + 0.5;
-    gl_Position = projection * view * model * vec4(aPos, 1.0);
-}
-"#;
-
 const FS: &str = r#"#version 330 core
 in vec3 Normal;
 in vec2 Uv;
@@ -174,7 +157,7 @@ struct Scene {
 
 impl Scene {
     fn new(gl: &Gl, side: Side, tex: u32) -> Result<Self, String> {
-        let prog = shader::program(gl, VS, FS)?;
+        let prog = shader::program(gl, shader::TEXTURED_CUBE_VS, FS)?;
         let loc = ["projection", "view", "model", "tint", "lightDir", "tex"].map(|n| shader::uniform(gl, prog, n));
         let vao = shader::pos_normal_vao(gl, &shader::cube_vertices());
         Ok(Scene {

@@ -6,23 +6,6 @@ use holoapps::multipass::{self, Attachment};
 use holoapps::scene::seconds;
 use holoapps::shader;
 
-const VS: &str = r#"#version 330 core
-layout (location = 0) in vec3 aPos;
-layout (location = 1) in vec3 aNormal;
-uniform mat4 projection;
-uniform mat4 view;
-uniform mat4 model;
-out vec3 Normal;
-out vec2 Uv;
-void main() {
-    Normal = mat3(transpose(inverse(model))) * aNormal;
-    // Unit cube: the two coordinates across the face are the texture coordinates.
-    vec3 n = abs(aNormal);
-    Uv = (n.x > 0.5 ? aPos.zy : n.y > 0.5 ? aPos.xz : aPos.xy) + 0.5;
-    gl_Position = projection * view * model * vec4(aPos, 1.0);
-}
-"#;
-
 const FS: &str = r#"#version 330 core
 in vec3 Normal;
 in vec2 Uv;
@@ -194,7 +177,7 @@ impl Scene {
         colour: Option<u32>,
         reuse_name: bool,
     ) -> Result<Scene, String> {
-        let prog = shader::program(gl, VS, FS)?;
+        let prog = shader::program(gl, shader::TEXTURED_CUBE_VS, FS)?;
         let post = shader::program(gl, multipass::QUAD_VS, POST_FS)?;
         let names = ["projection", "view", "model", "tint", "lightDir", "checker", "detail"];
         let l = names.map(|n| shader::uniform(gl, prog, n));
