@@ -47,6 +47,12 @@ pub fn analyse(source: &str, stage: Stage) -> Analysis {
         writes_layer: findings.writes_layer,
         position_kind: findings.kind.unwrap_or(PositionKind::Unknown),
         matrix_uniforms: findings.matrices,
+        has_main: parsed.as_ref().map(|tu| {
+            tu.0.iter().any(|d| {
+                matches!(&**d, glsl_lang::ast::ExternalDeclarationData::FunctionDefinition(f)
+                    if f.prototype.name.as_str() == "main")
+            })
+        }),
     }
 }
 

@@ -162,4 +162,8 @@ pub struct Analysis {
     /// anonymous ones), `s.member` for uniform structs; built-ins `gl_ModelViewProjectionMatrix`
     /// (also for `ftransform()`), `gl_ProjectionMatrix`, `gl_ModelViewMatrix`.
     pub matrix_uniforms: Vec<String>,
+    /// Whether `main` is defined in the code the preprocessor keeps (known only when
+    /// glsl-lang parsed the source): a shader object may lack it, or have it under an `#if`
+    /// that is off, and then it compiles but our wrapper's call would not.
+    pub has_main: Option<bool>,
 }

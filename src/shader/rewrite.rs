@@ -12,9 +12,12 @@ pub fn rewrite(source: &str, analysis: &Analysis) -> Result<String, String> {
     let blanked = text::blank_comments(source);
     refuse(&blanked, analysis)?;
     let dirs = text::directives(&blanked);
+    if !conditionals_balanced(&dirs) {
+        return Err("unbalanced #if/#else/#endif".into());
+    }
     match analysis.stage {
         Stage::Geometry => Ok(rewrite_geometry(source, &blanked, &dirs)),
-        _ => rewrite_main(source, &blanked, &dirs),
+        _ => rewrite_main(source, &blanked, &dirs, analysis),
     }
 }
 
@@ -57,11 +60,67 @@ fn refuse(blanked: &str, analysis: &Analysis) -> Result<(), String> {
     Ok(())
 }
 
-fn rewrite_main(source: &str, blanked: &str, dirs: &[Directive]) -> Result<String, String> {
+/// Conditionals that do not pair up (`#else` without `#if`, an `#if` never closed, two
+/// `#else`s): Mesa may still compile such a source, but text appended after it would land
+/// inside, or trip over, the open block (found by the `glsl_compiles` fuzz target).
+fn conditionals_balanced(dirs: &[Directive]) -> bool {
+    let mut open: Vec<bool> = vec![]; // per open #if: has it had its #else?
+    for d in dirs {
+        match d.name.as_str() {
+            "if" | "ifdef" | "ifndef" => open.push(false),
+            "elif" if open.last() == Some(&false) => {}
+            "else" if open.last() == Some(&false) => *open.last_mut().unwrap() = true,
+            "endif" if open.pop().is_some() => {}
+            "elif" | "else" | "endif" => return false,
+            _ => {}
+        }
+    }
+    open.is_empty()
+}
+
+/// Is every `main (` of the text inside some `#if` block? Then, unless glsl-lang evaluated
+/// the conditions, we cannot tell whether the compiler sees a `main` at all.
+fn main_only_under_conditionals(blanked: &str, dirs: &[Directive]) -> bool {
+    let lines = blanked.lines().count() + 1;
+    let mut depth_at_line = vec![0usize; lines];
+    let mut depth = 0usize;
+    let mut next = 0;
+    for d in dirs {
+        let end = d.line.min(lines - 1);
+        if next <= end {
+            depth_at_line[next..=end].fill(depth);
+        }
+        next = d.line + 1;
+        match d.name.as_str() {
+            "if" | "ifdef" | "ifndef" => depth += 1,
+            "endif" => depth = depth.saturating_sub(1),
+            _ => {}
+        }
+    }
+    if next < depth_at_line.len() {
+        depth_at_line[next..].fill(depth);
+    }
+    let mains: Vec<usize> = blanked
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| {
+            text::tokens(l)
+                .windows(2)
+                .any(|w| w[0].is_ident("main") && w[1].is_punct("("))
+        })
+        .map(|(i, _)| i)
+        .collect();
+    !mains.is_empty() && mains.iter().all(|&i| depth_at_line[i] > 0)
+}
+
+fn rewrite_main(source: &str, blanked: &str, dirs: &[Directive], analysis: &Analysis) -> Result<String, String> {
+    if analysis.has_main.is_none() && main_only_under_conditionals(blanked, dirs) {
+        return Err("main() only under #if, and the conditions could not be evaluated".into());
+    }
     if dirs.iter().any(|d| d.name == "define" && first_word(&d.rest) == "main") {
         return Err("the shader #defines main itself".into());
     }
-    if !defines_main(blanked) {
+    if analysis.has_main == Some(false) || !defines_main(blanked) {
         return Err("no main()".into());
     }
     let version = text::version(dirs);
