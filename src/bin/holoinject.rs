@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 
 fn main() {
     if let Err(e) = run() {
-        eprintln!("holoinject: error: {e}");
+        eprintln!("holoinject: error: {}", holoinject::config::one_line(&e));
         std::process::exit(2);
     }
 }

@@ -271,7 +271,7 @@ fn check(x: f64, range: &std::ops::RangeInclusive<f64>) -> Result<f64, String> {
 }
 
 fn one_line(s: String) -> String {
-    s.split_whitespace().collect::<Vec<_>>().join(" ")
+    super::one_line(&s)
 }
 
 /// A device's nominal calibration and its default quilt.

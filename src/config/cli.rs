@@ -29,7 +29,7 @@ fn value_for(opt: &OptDef, inline: Option<&str>, rest: &mut std::slice::Iter<OsS
             .map(str::to_string)
             .ok_or_else(|| format!("--{} needs a value ({})", opt.long, opt.value))?,
     };
-    (opt.check)(&value).map_err(|e| format!("--{} {value}: {e}", opt.long))?;
+    (opt.check)(&value).map_err(|e| super::one_line(&format!("--{} {value}: {e}", opt.long)))?;
     Ok(value)
 }
 

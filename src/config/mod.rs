@@ -14,6 +14,26 @@ mod tests_mutations;
 use std::path::PathBuf;
 use std::sync::OnceLock;
 
+/// A message as one line whatever values it quotes (a preset string or a variable can hold
+/// newlines and control characters): whitespace runs become one space, other control
+/// characters are escaped.
+pub fn one_line(s: &str) -> String {
+    s.split_whitespace()
+        .map(|w| {
+            w.chars()
+                .flat_map(|c| {
+                    if c.is_control() {
+                        c.escape_default().collect::<Vec<_>>()
+                    } else {
+                        vec![c]
+                    }
+                })
+                .collect::<String>()
+        })
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum FrameSet {
     List(Vec<u64>),
@@ -156,7 +176,7 @@ impl Settings {
             let value = match get(&var) {
                 Some(value) => {
                     if let Err(e) = (opt.check)(&value) {
-                        report(format!("{var}={value}: {e}; ignored"));
+                        report(one_line(&format!("{var}={value}: {e}; ignored")));
                         continue;
                     }
                     value
@@ -205,10 +225,13 @@ static SETTINGS: OnceLock<Settings> = OnceLock::new();
 pub fn settings() -> &'static Settings {
     SETTINGS.get_or_init(|| {
         let env = |k: &str| std::env::var(k).ok();
-        let mut report = |msg: String| crate::log::error(format_args!("{msg}"));
+        let mut report = |msg: String| crate::log::error(format_args!("{}", one_line(&msg)));
         for var in options::OPTIONS.iter().map(|o| o.env_name()) {
             if let Err(std::env::VarError::NotUnicode(raw)) = std::env::var(&var) {
-                report(format!("{var}={}: not valid UTF-8; ignored", raw.to_string_lossy()));
+                report(one_line(&format!(
+                    "{var}={}: not valid UTF-8; ignored",
+                    raw.to_string_lossy()
+                )));
             }
         }
         let chosen = preset::for_process(&env, &mut report);

@@ -57,7 +57,7 @@ pub fn parse(text: &str, source: &str) -> Result<(Preset, Vec<String>), String> 
             .span()
             .map(|s| line_of(text, s.start))
             .map_or(String::new(), |l| format!(" (line {l})"));
-        format!("{source}{at}: not valid TOML: {msg}; preset ignored")
+        super::one_line(&format!("{source}{at}: not valid TOML: {msg}; preset ignored"))
     })?;
     let mut preset = Preset {
         source: source.to_string(),
@@ -80,7 +80,7 @@ pub fn parse(text: &str, source: &str) -> Result<(Preset, Vec<String>), String> 
         }
         match field(key, value) {
             Ok(v) => preset.values.push((key.clone(), v)),
-            Err(e) => skipped.push(format!("{source}: field \"{key}\": {e}; ignored")),
+            Err(e) => skipped.push(super::one_line(&format!("{source}: field \"{key}\": {e}; ignored"))),
         }
     }
     Ok((preset, skipped))
@@ -315,6 +315,28 @@ mod tests {
                 "{line}"
             );
         }
+    }
+
+    /// What `cargo fuzz` (app_preset) found: values with newlines made multi-line messages.
+    #[test]
+    fn fuzz_regressions_give_one_line_messages() {
+        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fuzz/regressions/app_preset");
+        let files: Vec<_> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().path()).collect();
+        assert!(!files.is_empty());
+        for f in files {
+            let text = String::from_utf8_lossy(&std::fs::read(&f).unwrap()).into_owned();
+            match parse(&text, "p.toml") {
+                Ok((_, skipped)) => assert!(
+                    skipped.iter().all(|l| !l.contains('\n')),
+                    "{}: {skipped:?}",
+                    f.display()
+                ),
+                Err(e) => assert!(!e.contains('\n'), "{}: {e}", f.display()),
+            }
+        }
+        let (_, skipped) = parse("quilt = \"\"\"3\nby3\"\"\"\n", "p.toml").unwrap();
+        assert_eq!(skipped.len(), 1);
+        assert!(!skipped[0].contains('\n'), "{}", skipped[0]);
     }
 
     #[test]
