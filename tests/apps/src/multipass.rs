@@ -170,6 +170,11 @@ void main() {
 
 /// LearnOpenGL's full-screen quad: a 4-vertex triangle strip, pos (0) + uv (1).
 pub fn quad_vao(gl: &Gl) -> u32 {
+    quad(gl).0
+}
+
+/// The same quad as `(VAO, VBO)`, for apps that delete what they create.
+pub fn quad(gl: &Gl) -> (u32, u32) {
     let verts: [f32; 16] = [
         -1.0, 1.0, 0.0, 1.0, -1.0, -1.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0, 1.0, -1.0, 1.0, 0.0,
     ];
@@ -186,7 +191,7 @@ pub fn quad_vao(gl: &Gl) -> u32 {
         gl.EnableVertexAttribArray(1);
         gl.BindVertexArray(0);
     }
-    vao
+    (vao, vbo)
 }
 
 pub fn draw_quad(gl: &Gl, vao: u32) {

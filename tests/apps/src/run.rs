@@ -43,6 +43,11 @@ pub fn main_with(
         Some(o) => run(&o, profile(&o)?, make),
         None => Ok(()),
     });
+    exit_code(result)
+}
+
+/// An app's exit: 0, or 1 with its one-line error on stderr.
+pub fn exit_code(result: Result<(), String>) -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {

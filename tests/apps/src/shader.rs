@@ -145,14 +145,24 @@ pub fn uniform(gl: &Gl, prog: u32, name: &str) -> i32 {
 
 /// VAO with interleaved position (loc 0) + normal (loc 1), 6 floats a vertex.
 pub fn pos_normal_vao(gl: &Gl, verts: &[f32]) -> u32 {
-    let (mut vao, mut vbo) = (0, 0);
+    let mut vbo = 0;
     unsafe {
-        gl.GenVertexArrays(1, &mut vao);
-        gl.BindVertexArray(vao);
         gl.GenBuffers(1, &mut vbo);
         gl.BindBuffer(gl::ARRAY_BUFFER, vbo);
         let bytes = std::mem::size_of_val(verts) as isize;
         gl.BufferData(gl::ARRAY_BUFFER, bytes, verts.as_ptr().cast(), gl::STATIC_DRAW);
+    }
+    pos_normal_vao_of(gl, vbo)
+}
+
+/// A VAO reading position (0) + normal (1), 6 floats a vertex, from an existing buffer (one
+/// shared between contexts, say). Leaves the VAO and buffer bound.
+pub fn pos_normal_vao_of(gl: &Gl, vbo: u32) -> u32 {
+    let mut vao = 0;
+    unsafe {
+        gl.GenVertexArrays(1, &mut vao);
+        gl.BindVertexArray(vao);
+        gl.BindBuffer(gl::ARRAY_BUFFER, vbo);
         let stride = 6 * 4;
         gl.VertexAttribPointer(0, 3, gl::FLOAT, gl::FALSE, stride, std::ptr::null());
         gl.EnableVertexAttribArray(0);

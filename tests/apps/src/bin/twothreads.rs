@@ -351,11 +351,5 @@ fn main() -> ExitCode {
         Some(o) => run(o),
         None => Ok(()),
     });
-    match result {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::from(1)
-        }
-    }
+    holoapps::run::exit_code(result)
 }

@@ -241,11 +241,5 @@ fn main() -> ExitCode {
         Some(o) => run(&args, &o),
         None => Ok(()),
     });
-    match result {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::from(1)
-        }
-    }
+    holoapps::run::exit_code(result)
 }

@@ -117,40 +117,12 @@ fn cube_map(gl: &Gl) -> u32 {
 
 /// VAO of the root context's cube mesh: position (0) + normal (1), 6 floats a vertex.
 fn cube_vao(gl: &Gl, vbo: u32) -> u32 {
-    let mut vao = 0;
+    let vao = shader::pos_normal_vao_of(gl, vbo);
     unsafe {
-        gl.GenVertexArrays(1, &mut vao);
-        gl.BindVertexArray(vao);
-        gl.BindBuffer(gl::ARRAY_BUFFER, vbo);
-        gl.VertexAttribPointer(0, 3, gl::FLOAT, gl::FALSE, 24, std::ptr::null());
-        gl.EnableVertexAttribArray(0);
-        gl.VertexAttribPointer(1, 3, gl::FLOAT, gl::FALSE, 24, 12 as *const _);
-        gl.EnableVertexAttribArray(1);
         gl.BindVertexArray(0);
         gl.BindBuffer(gl::ARRAY_BUFFER, 0);
     }
     vao
-}
-
-/// Full-screen triangle strip, pos (0) + uv (1): (VAO, VBO).
-fn quad(gl: &Gl) -> (u32, u32) {
-    #[rustfmt::skip]
-    let verts: [f32; 16] = [-1.0, 1.0, 0.0, 1.0, -1.0, -1.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0, 1.0, -1.0, 1.0, 0.0];
-    let (mut vao, mut vbo) = (0, 0);
-    unsafe {
-        gl.GenVertexArrays(1, &mut vao);
-        gl.BindVertexArray(vao);
-        gl.GenBuffers(1, &mut vbo);
-        gl.BindBuffer(gl::ARRAY_BUFFER, vbo);
-        gl.BufferData(gl::ARRAY_BUFFER, 64, verts.as_ptr().cast(), gl::STATIC_DRAW);
-        gl.VertexAttribPointer(0, 2, gl::FLOAT, gl::FALSE, 16, std::ptr::null());
-        gl.EnableVertexAttribArray(0);
-        gl.VertexAttribPointer(1, 2, gl::FLOAT, gl::FALSE, 16, 8 as *const _);
-        gl.EnableVertexAttribArray(1);
-        gl.BindVertexArray(0);
-        gl.BindBuffer(gl::ARRAY_BUFFER, 0);
-    }
-    (vao, vbo)
 }
 
 /// Everything one context B creates. Uniform locations: projection, view, model, tint,
@@ -208,7 +180,7 @@ impl Scene {
             post,
             loc,
             cube_vao: cube_vao(gl, root.cube_vbo),
-            quad: quad(gl),
+            quad: multipass::quad(gl),
             detail,
             sampler,
             fbo,
