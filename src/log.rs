@@ -92,16 +92,17 @@ pub fn once(flag: &AtomicBool, l: Level, args: Arguments) {
 /// past it, nothing more is logged through here.
 pub fn once_for(key: (&'static str, u64), l: Level, args: Arguments) {
     const CAP: usize = 4096;
-    static SEEN: std::sync::Mutex<Vec<(&'static str, u64)>> = std::sync::Mutex::new(Vec::new());
+    type Seen = Option<std::collections::HashSet<(&'static str, u64)>>;
+    static SEEN: std::sync::Mutex<Seen> = std::sync::Mutex::new(None);
     if !enabled(l) {
         return;
     }
     let mut seen = SEEN.lock().unwrap_or_else(|p| p.into_inner());
-    if seen.len() >= CAP || seen.contains(&key) {
+    let seen = seen.get_or_insert_with(Default::default);
+    // Called per draw while the condition lasts: one hash lookup, not a scan.
+    if seen.len() >= CAP || !seen.insert(key) {
         return;
     }
-    seen.push(key);
-    drop(seen);
     emit(l, args)
 }
 

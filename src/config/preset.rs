@@ -283,6 +283,22 @@ mod tests {
         }
     }
 
+    /// `presets/example.toml` documents every key a preset may set, and what it sets parses.
+    #[test]
+    fn the_example_preset_covers_every_key() {
+        let text = include_str!("../../presets/example.toml");
+        let (p, skipped) = parse(text, "presets/example.toml").unwrap();
+        assert!(skipped.is_empty(), "{skipped:?}");
+        assert!(p.matches.is_empty(), "the example must not apply by itself");
+        for key in preset_keys() {
+            let documented = text.lines().any(|l| {
+                let l = l.trim_start_matches(['#', ' ']);
+                l.starts_with(&format!("{key} ="))
+            });
+            assert!(documented, "presets/example.toml does not mention `{key}`");
+        }
+    }
+
     #[test]
     fn match_lists_select_by_other_executable_names() {
         let c = for_program(&["glmark2-es2".into()], &no_env).unwrap().unwrap();
