@@ -27,6 +27,8 @@ const EGL_EXTENSIONS: &[&str] = &[
 struct Entry {
     policy: String,
     name: String,
+    /// `name = target`: the entry point uses `target`'s handler (same signature).
+    alias_of: Option<String>,
     api: &'static str,
     params: Vec<(String, String)>,
     ret: String,
@@ -50,7 +52,9 @@ fn main() {
         .filter_map(|(n, l)| parse_line(n + 1, l, &registries))
         .collect();
     entries.sort_by(|a, b| a.name.cmp(&b.name));
+    check_aliases(&entries);
     fs::write(out.join("hooks.rs"), gen_hooks(&entries)).unwrap();
+    fs::write(out.join("names.rs"), gen_table(&entries)).unwrap();
     fs::write(out.join("exports.map"), gen_export_map(&entries)).unwrap();
 
     let map = out.join("exports.map");
@@ -84,9 +88,13 @@ fn parse_line(line_no: usize, line: &str, regs: &[(&str, &Registry)]) -> Option<
     let (policy, rest) = line.split_once(char::is_whitespace).expect("policy.txt: missing name");
     let policy = policy.to_string();
     assert!(
-        ["track", "frame", "proc", "view"].contains(&policy.as_str()),
+        ["track", "frame", "proc", "view", "view+"].contains(&policy.as_str()),
         "policy.txt:{line_no}: unknown policy `{policy}`"
     );
+    let (rest, alias_of) = match rest.split_once('=') {
+        Some((name, target)) => (name, Some(target.trim().to_string())),
+        None => (rest, None),
+    };
     let rest = rest.trim_start();
     let split = rest.find(|c: char| c.is_whitespace() || c == '(').unwrap_or(rest.len());
     let (name, sig) = (rest[..split].to_string(), rest[split..].trim());
@@ -101,13 +109,37 @@ fn parse_line(line_no: usize, line: &str, regs: &[(&str, &Registry)]) -> Option<
             signature_of(cmd)
         }
     };
+    assert!(
+        policy != "view" || ret == "()",
+        "policy.txt:{line_no}: `{name}` returns {ret}; a generated per-view replay returns nothing"
+    );
     Some(Entry {
         policy,
         name,
+        alias_of,
         api,
         params,
         ret,
     })
+}
+
+/// Every alias names an entry of the same API with the same signature.
+fn check_aliases(entries: &[Entry]) {
+    for e in entries {
+        let Some(target) = &e.alias_of else { continue };
+        let t = entries.iter().find(|t| &t.name == target).unwrap_or_else(|| {
+            panic!(
+                "policy.txt: `{}` is an alias of `{target}`, which is not in the table",
+                e.name
+            )
+        });
+        let types = |e: &Entry| e.params.iter().map(|(_, t)| t.clone()).collect::<Vec<_>>();
+        assert!(
+            t.api == e.api && types(t) == types(e) && t.ret == e.ret && t.policy == e.policy && t.alias_of.is_none(),
+            "policy.txt: `{}` = `{target}`: aliases need the same API, policy and signature, and a handler of their own",
+            e.name
+        );
+    }
 }
 
 fn find_cmd<'a>(reg: &'a Registry, short: &str) -> Option<&'a Cmd> {
@@ -164,7 +196,7 @@ fn gen_hooks(entries: &[Entry]) -> String {
         }
         s.push_str("}\n\n");
     }
-    s.push_str(&gen_table(entries));
+    s.push_str(&gen_addrs(entries));
     s
 }
 
@@ -182,15 +214,21 @@ fn gen_shim(id: usize, e: &Entry) -> String {
     let args: Vec<&str> = e.params.iter().map(|(n, _)| n.as_str()).collect();
     let (params, tys, args) = (params.join(", "), tys.join(", "), args.join(", "));
     let (name, ret, api) = (&e.name, &e.ret, e.api);
-    let resolver = if api == "gl" { "gl" } else { "global" };
+    let handler = handler_call(e, &args);
+    // GL entry points differ per context (OSMesa's and libGL's glFinish in one process).
+    let resolver = if api == "gl" {
+        "crate::state::real_gl"
+    } else {
+        "crate::real::global"
+    };
     format!(
-        r#"    /// Hook ({policy}): see `crate::hook::handlers::{api}::{name}`.
+        r#"    /// Hook ({policy}): see `{doc}`.
     #[unsafe(no_mangle)]
     pub unsafe extern "C" fn {name}({params}) -> {ret} {{
         type Real = unsafe extern "C" fn({tys}) -> {ret};
-        let p = crate::hook::real::{resolver}({id});
+        let p = {resolver}({id});
         if p.is_null() {{
-            return crate::hook::real::missing({id});
+            return crate::real::missing({id});
         }}
         // SAFETY: `p` is the real entry point of this very name, so it has this signature.
         let real: Real = unsafe {{ core::mem::transmute::<*const c_void, Real>(p) }};
@@ -200,14 +238,7 @@ fn gen_shim(id: usize, e: &Entry) -> String {
         let last = core::cell::Cell::new(None);
         let out = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {{
             crate::hook::fail_point({id});
-            crate::hook::handlers::{api}::{name}(
-                |{args}| {{
-                    let v = unsafe {{ real({args}) }};
-                    last.set(Some(v));
-                    v
-                }},
-                {args}
-            )
+            {handler}
         }}));
         match out {{
             Ok(v) => v,
@@ -222,22 +253,54 @@ fn gen_shim(id: usize, e: &Entry) -> String {
     }}
 
 "#,
-        policy = e.policy
+        policy = e.policy,
+        doc = handler_doc(e),
     )
 }
 
+/// The handler the shim hands over to: a generated per-view replay for `view`, else the
+/// handwritten one (the alias target's for an alias), given `real` as a closure that also
+/// remembers what it returned (the fallback value if the handler panics afterwards).
+fn handler_call(e: &Entry, args: &str) -> String {
+    let body = format!(
+        "{{\n                    let v = unsafe {{ real({args}) }};\n                    last.set(Some(v));\n                    v\n                }}"
+    );
+    if e.policy == "view" {
+        return format!("crate::hook::handlers::gl::per_view(|| {body})");
+    }
+    let real = format!("|{args}| {body}");
+    let name = e.alias_of.as_deref().unwrap_or(&e.name);
+    let sep = if args.is_empty() { "" } else { ",\n                " };
+    format!(
+        "crate::hook::handlers::{api}::{name}(\n                {real}{sep}{args}\n            )",
+        api = e.api
+    )
+}
+
+fn handler_doc(e: &Entry) -> String {
+    match (&e.alias_of, e.policy.as_str()) {
+        (_, "view") => "crate::hook::handlers::gl::per_view".to_string(),
+        (Some(t), _) => format!("crate::hook::handlers::{}::{t}", e.api),
+        (None, _) => format!("crate::hook::handlers::{}::{}", e.api, e.name),
+    }
+}
+
+/// The name table `crate::real` owns: names, APIs and policies, no addresses of ours.
 fn gen_table(entries: &[Entry]) -> String {
-    let mut s = format!("pub const HOOK_COUNT: usize = {};\n\n", entries.len());
+    let mut s = String::from("// @generated by build.rs from src/hook/policy.txt. Do not edit.\n\n");
+    writeln!(s, "pub const HOOK_COUNT: usize = {};\n", entries.len()).unwrap();
     s.push_str("/// Sorted by name (binary search on the `dlsym` path, which must not allocate).\n");
-    s.push_str("pub static HOOKS: [crate::hook::HookEntry; HOOK_COUNT] = [\n");
+    s.push_str("pub static HOOKS: [crate::real::HookEntry; HOOK_COUNT] = [\n");
     for e in entries {
-        let policy = capitalise(&e.policy);
+        let policy = match e.policy.as_str() {
+            "view+" => "ViewOwn".to_string(),
+            p => capitalise(p),
+        };
         let api = capitalise(e.api);
         writeln!(
             s,
-            "    crate::hook::HookEntry {{ name: c\"{n}\", api: crate::hook::HookApi::{api}, policy: crate::hook::Policy::{policy}, addr: crate::hook::HookAddr({a}::{n} as *const core::ffi::c_void) }},",
-            n = e.name,
-            a = e.api
+            "    crate::real::HookEntry {{ name: c\"{n}\", api: crate::real::HookApi::{api}, policy: crate::real::Policy::{policy} }},",
+            n = e.name
         )
         .unwrap();
     }
@@ -246,6 +309,23 @@ fn gen_table(entries: &[Entry]) -> String {
         writeln!(s, "    pub const {}: usize = {i};", e.name).unwrap();
     }
     s.push_str("}\n");
+    s
+}
+
+/// The addresses of our exported shims, in the order of the name table.
+fn gen_addrs(entries: &[Entry]) -> String {
+    let mut s = String::from("/// Our shim for each entry of `crate::real::HOOKS`, by the same index.\n");
+    s.push_str("pub static ADDRS: [crate::hook::HookAddr; crate::real::HOOK_COUNT] = [\n");
+    for e in entries {
+        writeln!(
+            s,
+            "    crate::hook::HookAddr({a}::{n} as *const core::ffi::c_void),",
+            n = e.name,
+            a = e.api
+        )
+        .unwrap();
+    }
+    s.push_str("];\n");
     s
 }
 

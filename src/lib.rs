@@ -3,21 +3,69 @@
 //! An `LD_PRELOAD` layer that makes existing Linux OpenGL programs render light-field quilts
 //! for lenticular multiview displays (Looking Glass), without touching their source.
 //!
-//! ## Architecture (see `DESIGN.md` §1)
-//! `hook` interposes GL/GLX/EGL/OSMesa entry points (generated from `src/hook/policy.txt`) and
-//! `dlsym`/`dlopen`; `state` shadows contexts per thread and share group; `output` owns the
-//! frame boundary (dumps, exit-after; later the quilt and lenticular weave); `config` turns
-//! `HOLOINJECT_*` variables into typed settings. `camera`, `shader`, `multiview` and `synth`
-//! arrive with the multiview issues.
+//! ## Layers (DESIGN.md §2)
+//! Dependencies point one way, down this stack; a module never names one above it, and
+//! `scripts/module-graph.sh` prints the edges and fails on a cycle.
 //!
-//! ## Environment (the layer reads only these; `holoinject run --foo-bar` sets `HOLOINJECT_FOO_BAR`)
-//! See `config::options::OPTIONS` for the full list with their syntax.
+//! ```text
+//!  hook        exported shims (generated from src/hook/policy.txt), dlsym/dlopen
+//!              interposers, handlers; the order of things at make-current, draw, swap;
+//!              the per-context `Layer` (replay state + presenter)
+//!    │
+//!  multiview   per-view replay, quilt target,     output   presenting: quilt, weave,
+//!              layered FBO shadows, link-time              SBS, anaglyph, PNG dumps,
+//!              rewrite, fixed-function replay  ◀──────     frame timing (`Presenter`)
+//!    │
+//!  state       contexts, share groups, the thread's current context, the app-visible
+//!              GL state (`AppState`), surface sizes, per-context GL tables
+//!    │
+//!  real        finding the real functions: dlvsym, loaded sonames, *GetProcAddress,
+//!              the generated name table; no state
+//!    │
+//!  gl · camera · shader · config · log      leaves: bindings and GL helpers (`GlInfo`),
+//!              the view rig and projection estimate, GLSL analysis and rewrite,
+//!              settings and presets, logging
+//! ```
+//!
+//! `state` holds each context's layer data without knowing its type
+//! (`state::ContextLayer`): the type, `hook::layer::Layer`, is the layer's business.
+//!
+//! ## The journey of one draw
+//! The app calls `glDrawElements`. The exported shim (`hook`, generated) resolves the real
+//! function for the thread's current context (`state::real_gl`), catches panics, and calls
+//! the handler (`hook::handlers::gl`), which takes the context's lock once and hands the
+//! app's state, the context's `Multiview` and its GL table to `multiview::replay::draw`. With
+//! framebuffer 0 bound (the quilt stands in for it), the draw is issued once per view: the
+//! viewport and scissor mapped into the view's tile, the view's shift set (the injected
+//! `holoinject_view` uniform, or a sheared `GL_PROJECTION` for fixed function), and the
+//! app's state put back after the last view. Into an app framebuffer that the main camera
+//! draws into, the draw goes to each layer of its layered shadow instead.
+//!
+//! ## The journey of one link
+//! `glLinkProgram` reaches `multiview::link`: the attached vertex (or last geometry) shader
+//! is analysed (`shader`, a real GLSL parser with a text fallback), rewritten to wrap `main`
+//! with the clip-space shift of DESIGN §3, recompiled and linked; what the replay needs
+//! (view-uniform location, where the projection lives, whether `gl_Position` is given in
+//! NDC) is recorded in the share group (`state::share::ProgramInfo`). Anything unsure or
+//! failing relinks the app's own sources: the program works, only without parallax.
+//!
+//! ## The journey of one swap
+//! `glXSwapBuffers`/`eglSwapBuffers` (or `glFinish` for OSMesa) reach `hook::frame`: the
+//! frame is numbered, `output::Presenter` draws the quilt into the real framebuffer 0 as
+//! `--output` asks (and dumps the quilt and weave), the presented image is dumped, the real
+//! swap runs, then `multiview` reads the centre view's depth for auto-convergence and
+//! resizes the quilt if the window changed; `--exit-after` ends the process last.
+//!
+//! ## Environment
+//! The layer reads only `HOLOINJECT_*` variables (`holoinject run --foo-bar` sets
+//! `HOLOINJECT_FOO_BAR`); `config::options::OPTIONS` lists them with their syntax.
 //!
 //! ## Safety contract
-//! - No panic crosses FFI: every exported shim runs its handler under `catch_unwind` and falls
-//!   back to the real call; after one failure the layer is pass-through for the rest of the run.
+//! - No panic crosses FFI: every exported shim runs its handler under `catch_unwind` and
+//!   falls back to the real call; after one failure the layer hands the frame in progress
+//!   back (`hook::layer::abandon`) and is pass-through for the rest of the run.
 //! - Every GL state the layer changes is restored before returning to the app
-//!   (`gl::readback::PixelStateGuard`).
+//!   (`gl::guard::StateGuard`, `gl::readback`).
 //! - Nothing on stdout; stderr only at `HOLOINJECT_LOG` level (default `warn`).
 
 pub mod camera;
@@ -27,5 +75,6 @@ pub mod hook;
 pub mod log;
 pub mod multiview;
 pub mod output;
+pub mod real;
 pub mod shader;
 pub mod state;

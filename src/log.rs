@@ -160,7 +160,6 @@ pub fn announce() {
             "HOLOINJECT_LOG: unknown level; using `warn` (off|error|warn|info|debug|trace)"
         ));
     }
-    crate::config::settings();
 }
 
 /// Inside someone else's process a panic of ours (caught at the hook, which then falls back to

@@ -17,9 +17,9 @@
 
 use holoapps::gl::{self, Gl};
 use holoapps::platform::{Platform, Profile, create};
+use holoinject::camera::invert;
 use holoinject::camera::precision::{Case, apply, cases, mul, point, rig_for};
 use holoinject::camera::projection::classify;
-use holoinject::multiview::screen_space::invert;
 use holoinject::shader::{Stage, VIEW_UNIFORM, ViewMode, analyse, rewrite};
 use std::ffi::CString;
 

@@ -8,9 +8,13 @@
 //! auto-convergence, and to tell orthographic draws (HUDs) from perspective ones.
 
 pub mod convergence;
+pub mod estimate;
+pub mod matrix;
 pub mod precision;
 pub mod projection;
 pub mod rig;
 
+pub use estimate::CameraEstimate;
+pub use matrix::invert;
 pub use projection::{Projection, ProjectionKind};
 pub use rig::{ViewParams, ViewRig};

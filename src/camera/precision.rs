@@ -77,7 +77,7 @@ fn measure(case: &'static str, p: [f64; 16], v: [f64; 16], depths: &[f64]) -> Ro
     // What the layer sees is the app's f32 upload: the model from the f32-rounded matrix.
     let range = classify_f64(&m.map(|x| x as f32 as f64));
     let exact = classify_f64(&m);
-    let inv_v = super::super::multiview::screen_space::invert(&v).expect("invertible view");
+    let inv_v = super::matrix::invert(&v).expect("invertible view");
     let k = rig_for(depths).params(47);
     let (mut e64, mut e32, mut shift) = (0f64, 0f64, 0f64);
     for &d in depths {

@@ -75,6 +75,28 @@ pub enum Convergence {
     Fixed(f64),
 }
 
+/// How the native weave mixes views between lenticules (`--weave-filter`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum WeaveFilter {
+    Nearest,
+    BlendNext,
+    /// `sigma` in views.
+    Gaussian {
+        sigma: f32,
+    },
+}
+
+impl WeaveFilter {
+    /// The shader's `u_filter` value.
+    pub fn mode(self) -> i32 {
+        match self {
+            WeaveFilter::Nearest => 0,
+            WeaveFilter::BlendNext => 1,
+            WeaveFilter::Gaussian { .. } => 2,
+        }
+    }
+}
+
 /// The multiview rig as configured (what is not given is decided per context from the
 /// window size and the scene).
 #[derive(Clone, Debug, PartialEq)]
@@ -83,7 +105,7 @@ pub struct ViewSettings {
     pub quilt: (u32, u32),
     pub tile: Option<(u32, u32)>,
     pub device: Option<device::Device>,
-    pub weave_filter: crate::output::weave::Filter,
+    pub weave_filter: WeaveFilter,
     pub fbo_views: FboViews,
     pub depthiness: Option<f64>,
     /// Angle (degrees) between the outermost cameras as seen from the convergence plane.
@@ -114,7 +136,7 @@ impl Default for ViewSettings {
             quilt: (8, 6),
             tile: None,
             device: None,
-            weave_filter: crate::output::weave::Filter::BlendNext,
+            weave_filter: WeaveFilter::BlendNext,
             fbo_views: FboViews::Auto,
             depthiness: None,
             view_cone: None,

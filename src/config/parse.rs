@@ -53,8 +53,8 @@ pub fn output(v: &str) -> Result<Output, String> {
     }
 }
 
-pub fn weave_filter(v: &str) -> Result<crate::output::weave::Filter, String> {
-    use crate::output::weave::Filter;
+pub fn weave_filter(v: &str) -> Result<super::WeaveFilter, String> {
+    use super::WeaveFilter as Filter;
     match v.trim() {
         "nearest" => Ok(Filter::Nearest),
         "blend" => Ok(Filter::BlendNext),

@@ -4,8 +4,8 @@
 //! in reverse order, when dropped. Only state that exists in the context's version is
 //! queried, so the guard itself never raises a GL error the app could later observe.
 
+use super::GlInfo;
 use super::*;
-use crate::state::GlInfo;
 
 enum Saved {
     Framebuffers { draw: u32, read: u32 },
@@ -53,10 +53,6 @@ impl<'a> StateGuard<'a> {
         }
     }
 
-    pub fn core_like(&self) -> bool {
-        self.info.es || self.info.at_least(3, 0)
-    }
-
     pub fn framebuffers(mut self) -> Self {
         let (draw, read) = (
             get_i(self.gl, DRAW_FRAMEBUFFER_BINDING) as u32,
@@ -90,7 +86,7 @@ impl<'a> StateGuard<'a> {
     pub fn for_pass(mut self) -> Self {
         let gl = self.gl;
         self.saved.push(Saved::Program(get_i(gl, CURRENT_PROGRAM) as u32));
-        if self.core_like() {
+        if self.info.has_gl3_features() {
             self.saved
                 .push(Saved::VertexArray(get_i(gl, VERTEX_ARRAY_BINDING) as u32));
         }
@@ -98,7 +94,7 @@ impl<'a> StateGuard<'a> {
         // SAFETY: selecting unit 0 so its bindings can be read; restored by the guard.
         unsafe { gl.ActiveTexture(TEXTURE0) };
         self.saved.push(Saved::Texture2d(get_i(gl, TEXTURE_BINDING_2D) as u32));
-        if self.info.es && self.info.at_least(3, 0) || !self.info.es && self.info.at_least(3, 3) {
+        if self.info.has_samplers() {
             self.saved.push(Saved::Sampler0(get_i(gl, SAMPLER_BINDING) as u32));
         }
         self.saved
@@ -116,7 +112,7 @@ impl<'a> StateGuard<'a> {
             self.saved.push(Saved::PolygonMode(modes[0]));
         }
         let mut caps = vec![BLEND, DEPTH_TEST, STENCIL_TEST, CULL_FACE, DITHER, SCISSOR_TEST];
-        if self.core_like() {
+        if self.info.has_gl3_features() {
             caps.push(RASTERIZER_DISCARD);
         }
         if !self.info.es {

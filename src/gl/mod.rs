@@ -21,6 +21,8 @@ pub mod glx {
 
 pub mod egl;
 pub mod guard;
+mod info;
+pub use info::GlInfo;
 pub mod readback;
 
 /// A context's GL table, shared between the threads that make the context current.

@@ -2,8 +2,8 @@
 //! read depends on is saved by [`PixelStateGuard`] and restored on drop, and only entry points
 //! valid for the context's version are called (so no GL error is left for the app to find).
 
+use super::GlInfo;
 use super::{Gl, types::GLenum};
-use crate::state::GlInfo;
 
 /// Saved read-side state; restored on drop.
 struct PixelStateGuard<'a> {
@@ -14,22 +14,6 @@ struct PixelStateGuard<'a> {
     read_buffer: i32,
     pack_buffer: i32,
     pack: Vec<(GLenum, i32)>,
-}
-
-fn has_fbo(info: GlInfo) -> bool {
-    info.es || info.at_least(3, 0)
-}
-
-fn has_read_buffer(info: GlInfo) -> bool {
-    !info.es || info.at_least(3, 0)
-}
-
-fn has_pack_buffer(info: GlInfo) -> bool {
-    if info.es {
-        info.at_least(3, 0)
-    } else {
-        info.at_least(2, 1)
-    }
 }
 
 fn pack_params(info: GlInfo) -> &'static [GLenum] {
@@ -60,8 +44,8 @@ fn get(gl: &Gl, pname: GLenum) -> i32 {
 impl<'a> PixelStateGuard<'a> {
     fn save(gl: &'a Gl, info: GlInfo) -> Self {
         use super::*;
-        let fbo = has_fbo(info);
-        let split = fbo && (!info.es || info.at_least(3, 0));
+        let fbo = info.has_framebuffers();
+        let split = fbo && info.has_gl3_features();
         let read_fbo = if split {
             get(gl, READ_FRAMEBUFFER_BINDING)
         } else if fbo {
@@ -74,8 +58,12 @@ impl<'a> PixelStateGuard<'a> {
         } else {
             read_fbo
         };
-        let read_buffer = if has_read_buffer(info) { get(gl, READ_BUFFER) } else { 0 };
-        let pack_buffer = if has_pack_buffer(info) {
+        let read_buffer = if info.has_read_buffer() {
+            get(gl, READ_BUFFER)
+        } else {
+            0
+        };
+        let pack_buffer = if info.has_pack_buffer() {
             get(gl, PIXEL_PACK_BUFFER_BINDING)
         } else {
             0
@@ -99,18 +87,18 @@ impl Drop for PixelStateGuard<'_> {
         let (gl, info) = (self.gl, self.info);
         // SAFETY: restoring values this guard read from the same current context.
         unsafe {
-            if has_fbo(info) {
-                if !info.es || info.at_least(3, 0) {
+            if info.has_framebuffers() {
+                if info.has_gl3_features() {
                     gl.BindFramebuffer(READ_FRAMEBUFFER, self.read_fbo as u32);
                     gl.BindFramebuffer(DRAW_FRAMEBUFFER, self.draw_fbo as u32);
                 } else {
                     gl.BindFramebuffer(FRAMEBUFFER, self.read_fbo as u32);
                 }
             }
-            if has_read_buffer(info) {
+            if info.has_read_buffer() {
                 gl.ReadBuffer(self.read_buffer as u32);
             }
-            if has_pack_buffer(info) {
+            if info.has_pack_buffer() {
                 gl.BindBuffer(PIXEL_PACK_BUFFER, self.pack_buffer as u32);
             }
             for &(p, v) in &self.pack {
@@ -123,7 +111,7 @@ impl Drop for PixelStateGuard<'_> {
 /// Which colour buffer of the default framebuffer the app draws (and so presents).
 fn presented_buffer(gl: &Gl, info: GlInfo) -> Option<GLenum> {
     use super::*;
-    if !has_read_buffer(info) {
+    if !info.has_read_buffer() {
         return None;
     }
     if info.es {
@@ -131,7 +119,7 @@ fn presented_buffer(gl: &Gl, info: GlInfo) -> Option<GLenum> {
     }
     // SAFETY: binding the default framebuffer for draw only to ask for its draw buffer;
     // the guard restores the app's binding.
-    if has_fbo(info) {
+    if info.has_framebuffers() {
         unsafe { gl.BindFramebuffer(DRAW_FRAMEBUFFER, 0) };
     }
     Some(match get(gl, DRAW_BUFFER) as GLenum {
@@ -170,8 +158,8 @@ pub fn read_rgba(gl: &Gl, info: GlInfo, source: Source, rect: [i32; 4]) -> Resul
             Source::Presented => 0,
             Source::Fbo(f) => f,
         };
-        if has_fbo(info) {
-            let target = if info.es && !info.at_least(3, 0) {
+        if info.has_framebuffers() {
+            let target = if !info.has_gl3_features() {
                 FRAMEBUFFER
             } else {
                 READ_FRAMEBUFFER
@@ -186,10 +174,10 @@ pub fn read_rgba(gl: &Gl, info: GlInfo, source: Source, rect: [i32; 4]) -> Resul
                     gl.ReadBuffer(buffer);
                 }
             }
-            Source::Fbo(_) if has_read_buffer(info) => gl.ReadBuffer(COLOR_ATTACHMENT0),
+            Source::Fbo(_) if info.has_read_buffer() => gl.ReadBuffer(COLOR_ATTACHMENT0),
             Source::Fbo(_) => {}
         }
-        if has_pack_buffer(info) {
+        if info.has_pack_buffer() {
             gl.BindBuffer(PIXEL_PACK_BUFFER, 0);
         }
         for &(p, _) in &guard.pack {
@@ -220,7 +208,7 @@ pub fn read_depth(gl: &Gl, info: GlInfo, fbo: u32, rect: [i32; 4]) -> Vec<f32> {
     // SAFETY: as in `read_rgba`, with one float per pixel.
     unsafe {
         gl.BindFramebuffer(READ_FRAMEBUFFER, fbo);
-        if has_pack_buffer(info) {
+        if info.has_pack_buffer() {
             gl.BindBuffer(PIXEL_PACK_BUFFER, 0);
         }
         for &(p, _) in &guard.pack {

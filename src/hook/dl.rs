@@ -7,83 +7,34 @@
 //! and then either return our answer or tail-jump into the real function with the caller's
 //! return address untouched.
 //!
-//! The real functions come from `dlvsym` (glibc ≥ 2.34 has no `__libc_dlsym`), resolved
-//! lazily into atomics: other libraries' constructors call `dlsym` before ours would run, and
-//! re-entering a `OnceLock` from inside its own initialiser deadlocks.
+//! The real functions come from `crate::real::dl`.
 
+use crate::real::{HOOKS, HookApi, dl};
 use core::ffi::{CStr, c_char, c_int, c_void};
-use std::sync::atomic::{AtomicUsize, Ordering};
-
-static REAL_DLSYM: AtomicUsize = AtomicUsize::new(0);
-static REAL_DLOPEN: AtomicUsize = AtomicUsize::new(0);
-
-const GLIBC_VERSIONS: [&CStr; 2] = [c"GLIBC_2.34", c"GLIBC_2.2.5"];
-
-fn resolve(slot: &AtomicUsize, name: &CStr) -> usize {
-    let cached = slot.load(Ordering::Acquire);
-    if cached != 0 {
-        return cached;
-    }
-    for version in GLIBC_VERSIONS {
-        // SAFETY: dlvsym is not interposed by us; the arguments are valid C strings.
-        let p = unsafe { libc::dlvsym(libc::RTLD_NEXT, name.as_ptr(), version.as_ptr()) };
-        if !p.is_null() {
-            slot.store(p as usize, Ordering::Release);
-            return p as usize;
-        }
-    }
-    0
-}
-
-/// The real `dlsym`, called from our own code (we are the caller: fine for lookups of GL
-/// entry points, whose answer does not depend on who asks).
-pub fn real_dlsym(handle: *mut c_void, name: *const c_char) -> *const c_void {
-    let f = resolve(&REAL_DLSYM, c"dlsym");
-    if f == 0 {
-        return core::ptr::null();
-    }
-    // SAFETY: `f` is glibc's dlsym.
-    let f: unsafe extern "C" fn(*mut c_void, *const c_char) -> *const c_void = unsafe { core::mem::transmute(f) };
-    unsafe { f(handle, name) }
-}
-
-/// `name` in the already-loaded library `soname`, or null (never loads anything).
-pub fn symbol_in_loaded(soname: &CStr, name: *const c_char) -> *const c_void {
-    let open = resolve(&REAL_DLOPEN, c"dlopen");
-    if open == 0 {
-        return core::ptr::null();
-    }
-    // SAFETY: `open` is glibc's dlopen; RTLD_NOLOAD never loads or runs constructors.
-    let open: unsafe extern "C" fn(*const c_char, c_int) -> *mut c_void = unsafe { core::mem::transmute(open) };
-    let h = unsafe { open(soname.as_ptr(), libc::RTLD_NOLOAD | libc::RTLD_LAZY) };
-    if h.is_null() {
-        return core::ptr::null();
-    }
-    let p = real_dlsym(h, name);
-    // SAFETY: balances the reference count taken by the NOLOAD open above.
-    unsafe { libc::dlclose(h) };
-    p
-}
 
 /// Our hook for `name` when the real function exists behind `handle`, else null (forward).
 extern "C" fn decide_dlsym(handle: *mut c_void, name: *const c_char) -> *const c_void {
-    resolve(&REAL_DLSYM, c"dlsym");
-    let Some(id) = super::find(name) else {
+    dl::resolve(&dl::REAL_DLSYM, c"dlsym");
+    if name.is_null() {
+        return core::ptr::null();
+    }
+    // SAFETY: callers of dlsym pass a NUL-terminated name.
+    let Some(id) = crate::real::find(unsafe { CStr::from_ptr(name) }) else {
         return core::ptr::null();
     };
     std::panic::catch_unwind(|| {
-        let real = real_dlsym(handle, name);
+        let real = dl::real_dlsym(handle, name);
         if real.is_null() {
             return core::ptr::null();
         }
-        if super::HOOKS[id].api != super::HookApi::Gl {
-            super::real::remember(id, real);
+        if HOOKS[id].api != HookApi::Gl {
+            crate::real::remember(id, real);
         }
         crate::log::debug(format_args!(
             "dlsym({handle:p}, {}) -> hook",
-            super::HOOKS[id].name.to_string_lossy()
+            HOOKS[id].name.to_string_lossy()
         ));
-        super::HOOKS[id].addr.0
+        super::ADDRS[id].0
     })
     .unwrap_or(core::ptr::null())
 }
@@ -91,7 +42,7 @@ extern "C" fn decide_dlsym(handle: *mut c_void, name: *const c_char) -> *const c
 /// The flags the real `dlopen` gets: `RTLD_DEEPBIND` is dropped for GL libraries, because a
 /// deep-bound libGL would resolve its own entry points past our preloaded hooks.
 extern "C" fn decide_dlopen(file: *const c_char, flags: c_int) -> c_int {
-    resolve(&REAL_DLOPEN, c"dlopen");
+    dl::resolve(&dl::REAL_DLOPEN, c"dlopen");
     if flags & libc::RTLD_DEEPBIND == 0 || file.is_null() {
         return flags;
     }
@@ -132,7 +83,7 @@ pub unsafe extern "C" fn dlsym(handle: *mut c_void, name: *const c_char) -> *mut
         "2:",
         "jmp qword ptr [rip + {real}]",
         decide = sym decide_dlsym,
-        real = sym REAL_DLSYM,
+        real = sym dl::REAL_DLSYM,
     )
 }
 
@@ -153,6 +104,6 @@ pub unsafe extern "C" fn dlopen(file: *const c_char, flags: c_int) -> *mut c_voi
         "mov esi, eax",
         "jmp qword ptr [rip + {real}]",
         decide = sym decide_dlopen,
-        real = sym REAL_DLOPEN,
+        real = sym dl::REAL_DLOPEN,
     )
 }

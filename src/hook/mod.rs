@@ -1,53 +1,32 @@
-//! Interposition only: the exported entry points (generated from `policy.txt`), the `dlsym` /
-//! `dlopen` interposers and real-function lookup. Handlers are a few lines each and hand over
-//! to `state` / `output`.
+//! Interposition: the exported entry points (generated from `policy.txt`), the `dlsym` /
+//! `dlopen` interposers, and the handlers, which decide the order of things (at make-current,
+//! draw, swap) and hand over to `state`, `multiview` and `output`.
 //!
 //! # Safety contract
 //! Every exported shim catches panics from its handler; after the first one the whole layer
 //! turns itself into pass-through (`is_active() == false`) and logs once, because a handler
 //! that panicked may have left our shadow state inconsistent with the app's GL state.
 
-use core::ffi::{CStr, c_char, c_void};
+use core::ffi::c_void;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 pub mod dl;
+pub mod frame;
 pub mod handlers;
-pub mod real;
+pub mod layer;
 
 #[allow(unsafe_op_in_unsafe_fn, clippy::all)]
 mod exports {
     include!(concat!(env!("OUT_DIR"), "/hooks.rs"));
 }
-pub use exports::{HOOK_COUNT, HOOKS, id};
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum HookApi {
-    Gl,
-    Glx,
-    Egl,
-    Osmesa,
-}
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Policy {
-    Track,
-    Frame,
-    Proc,
-    View,
-}
+pub use crate::real::{HOOK_COUNT, HOOKS, HookApi, Policy, id};
+pub use exports::ADDRS;
 
 /// A function address in a `static` table.
 #[derive(Clone, Copy)]
 pub struct HookAddr(pub *const c_void);
 // SAFETY: code addresses are immutable and valid on every thread.
 unsafe impl Sync for HookAddr {}
-
-pub struct HookEntry {
-    pub name: &'static CStr,
-    pub api: HookApi,
-    pub policy: Policy,
-    pub addr: HookAddr,
-}
 
 static DISABLED: AtomicBool = AtomicBool::new(false);
 
@@ -57,29 +36,18 @@ pub fn is_active() -> bool {
     !DISABLED.load(Ordering::Relaxed)
 }
 
-/// Test hook: `HOLOINJECT_TEST_FAIL=NAME` makes the handler of NAME panic (see `handlers`).
+/// Called by hook `id`'s shim when its handler panicked: the first time, the frame in
+/// progress is handed back to the app (`layer::abandon`), the layer turns pass-through for
+/// good and says so once; later panics (from other threads already inside a handler) are
+/// silent.
 pub fn handler_panicked(id: usize) {
     if !DISABLED.swap(true, Ordering::Relaxed) {
-        let _ = std::panic::catch_unwind(crate::multiview::abandon);
+        let _ = std::panic::catch_unwind(layer::abandon);
         crate::log::error(format_args!(
             "internal error in the {} hook; the layer is now pass-through for the rest of this run",
             HOOKS[id].name.to_string_lossy()
         ));
     }
-}
-
-/// Finds a hook by C name without allocating (this runs inside `dlsym`).
-pub fn find(name: *const c_char) -> Option<usize> {
-    if name.is_null() {
-        return None;
-    }
-    // SAFETY: callers of dlsym/GetProcAddress pass NUL-terminated strings.
-    let bytes = unsafe { CStr::from_ptr(name) }.to_bytes();
-    let first = *bytes.first()?;
-    if first != b'g' && first != b'e' && first != b'O' {
-        return None;
-    }
-    HOOKS.binary_search_by(|h| h.name.to_bytes().cmp(bytes)).ok()
 }
 
 static FAIL_ID: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(usize::MAX);

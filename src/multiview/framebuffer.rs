@@ -5,10 +5,11 @@ use super::Multiview;
 use super::layout::{QuiltLayout, intersect};
 use super::target::QuiltTarget;
 use crate::gl::*;
+use crate::state::AppState;
 
 /// Creates (or re-creates, when the window size changed) the quilt, and binds it wherever
 /// the app has framebuffer 0 bound.
-pub fn ensure_target(gl: &Gl, mv: &mut Multiview, window: (u32, u32)) {
+pub fn ensure_target(gl: &Gl, app: &AppState, mv: &mut Multiview, window: (u32, u32)) {
     let wanted = QuiltLayout::new(mv.settings.quilt, mv.settings.tile, window);
     if mv.target.as_ref().is_some_and(|t| t.layout == wanted) || mv.failed {
         return;
@@ -31,7 +32,7 @@ pub fn ensure_target(gl: &Gl, mv: &mut Multiview, window: (u32, u32)) {
             ));
             mv.target = Some(t);
             mv.update_rig(wanted);
-            rebind(gl, mv);
+            rebind(gl, app, mv);
         }
         Err(e) => {
             crate::log::error(format_args!("{e}; multiview off for this context"));
@@ -41,12 +42,12 @@ pub fn ensure_target(gl: &Gl, mv: &mut Multiview, window: (u32, u32)) {
 }
 
 /// Makes GL's bindings match the app's, with the quilt standing in for 0.
-pub fn rebind(gl: &Gl, mv: &Multiview) {
+pub fn rebind(gl: &Gl, app: &AppState, mv: &Multiview) {
     let map = |fbo: u32| if fbo == 0 { mv.quilt_fbo().unwrap_or(0) } else { fbo };
     // SAFETY: binding framebuffers that exist (the app's or ours).
     unsafe {
-        gl.BindFramebuffer(DRAW_FRAMEBUFFER, map(mv.app.draw_fbo));
-        gl.BindFramebuffer(READ_FRAMEBUFFER, map(mv.app.read_fbo));
+        gl.BindFramebuffer(DRAW_FRAMEBUFFER, map(app.draw_fbo));
+        gl.BindFramebuffer(READ_FRAMEBUFFER, map(app.read_fbo));
     }
 }
 
@@ -56,7 +57,7 @@ pub fn rebind(gl: &Gl, mv: &Multiview) {
 /// attachments. Without this, an app that reads back or keeps drawing after the failure would
 /// see the previous frame, or a quilt.
 pub fn hand_back(gl: &Gl, mv: &Multiview) {
-    let centre = mv.rig.centre();
+    let centre = mv.camera.rig.centre();
     let mut caps = vec![SCISSOR_TEST];
     if !mv.info.es {
         caps.push(FRAMEBUFFER_SRGB);
@@ -86,13 +87,13 @@ pub fn hand_back(gl: &Gl, mv: &Multiview) {
 }
 
 /// `glBindFramebuffer(target, fbo)`: records the app's binding; returns the name GL gets.
-pub fn bind(mv: &mut Multiview, target: GLenum, fbo: u32) -> u32 {
+pub fn bind(app: &mut AppState, mv: &mut Multiview, target: GLenum, fbo: u32) -> u32 {
     match target {
-        DRAW_FRAMEBUFFER => mv.app.draw_fbo = fbo,
-        READ_FRAMEBUFFER => mv.app.read_fbo = fbo,
+        DRAW_FRAMEBUFFER => app.draw_fbo = fbo,
+        READ_FRAMEBUFFER => app.read_fbo = fbo,
         _ => {
-            mv.app.draw_fbo = fbo;
-            mv.app.read_fbo = fbo;
+            app.draw_fbo = fbo;
+            app.read_fbo = fbo;
         }
     }
     if fbo == 0 { mv.quilt_fbo().unwrap_or(0) } else { fbo }
@@ -108,13 +109,13 @@ pub fn map_buffer(buffer: GLenum) -> GLenum {
 }
 
 /// Corrects a `glGetIntegerv` answer about framebuffer 0 so the app sees its own values.
-pub fn patch_get(mv: &Multiview, pname: GLenum) -> Option<i32> {
+pub fn patch_get(app: &AppState, mv: &Multiview, pname: GLenum) -> Option<i32> {
     mv.quilt_fbo()?;
     Some(match pname {
-        DRAW_FRAMEBUFFER_BINDING => mv.app.draw_fbo as i32,
-        READ_FRAMEBUFFER_BINDING => mv.app.read_fbo as i32,
-        DRAW_BUFFER | DRAW_BUFFER0 if mv.app.draw_fbo == 0 => mv.app.draw_buffer as i32,
-        READ_BUFFER if mv.app.read_fbo == 0 => mv.app.read_buffer as i32,
+        DRAW_FRAMEBUFFER_BINDING => app.draw_fbo as i32,
+        READ_FRAMEBUFFER_BINDING => app.read_fbo as i32,
+        DRAW_BUFFER | DRAW_BUFFER0 if app.draw_fbo == 0 => app.draw_buffer as i32,
+        READ_BUFFER if app.read_fbo == 0 => app.read_buffer as i32,
         _ => return None,
     })
 }
@@ -137,26 +138,38 @@ const DEFAULT_FRAMEBUFFER_QUERIES: [GLenum; 10] = [
 
 /// Runs `query` with the real framebuffer 0 bound where the app believes it is, when `pname`
 /// describes the draw framebuffer and the app's is 0; `None` when no rebinding is needed.
-pub fn on_real_default<R>(gl: &Gl, mv: &Multiview, pname: GLenum, query: impl FnOnce() -> R) -> Option<R> {
-    if mv.quilt_fbo().is_none() || mv.app.draw_fbo != 0 || !DEFAULT_FRAMEBUFFER_QUERIES.contains(&pname) {
+pub fn on_real_default<R>(
+    gl: &Gl,
+    app: &AppState,
+    mv: &Multiview,
+    pname: GLenum,
+    query: impl FnOnce() -> R,
+) -> Option<R> {
+    if mv.quilt_fbo().is_none() || app.draw_fbo != 0 || !DEFAULT_FRAMEBUFFER_QUERIES.contains(&pname) {
         return None;
     }
     // SAFETY: real framebuffer 0 for the query only; the app's (quilt) binding comes back.
     unsafe { gl.BindFramebuffer(DRAW_FRAMEBUFFER, 0) };
     let r = query();
-    rebind(gl, mv);
+    rebind(gl, app, mv);
     Some(r)
 }
 
 /// `glGetFramebufferAttachmentParameteriv` on framebuffer 0 (GL_BACK_LEFT, GL_DEPTH…): asked
 /// of the real default framebuffer, where those attachment names exist.
-pub fn on_real_target<R>(gl: &Gl, mv: &Multiview, target: GLenum, query: impl FnOnce() -> R) -> Option<R> {
-    let app = if target == READ_FRAMEBUFFER {
-        mv.app.read_fbo
+pub fn on_real_target<R>(
+    gl: &Gl,
+    app: &AppState,
+    mv: &Multiview,
+    target: GLenum,
+    query: impl FnOnce() -> R,
+) -> Option<R> {
+    let bound = if target == READ_FRAMEBUFFER {
+        app.read_fbo
     } else {
-        mv.app.draw_fbo
+        app.draw_fbo
     };
-    if mv.quilt_fbo().is_none() || app != 0 {
+    if mv.quilt_fbo().is_none() || bound != 0 {
         return None;
     }
     let binding = if target == READ_FRAMEBUFFER {
@@ -167,13 +180,13 @@ pub fn on_real_target<R>(gl: &Gl, mv: &Multiview, target: GLenum, query: impl Fn
     // SAFETY: as in `on_real_default`.
     unsafe { gl.BindFramebuffer(binding, 0) };
     let r = query();
-    rebind(gl, mv);
+    rebind(gl, app, mv);
     Some(r)
 }
 
 /// Clears every layer of a shadowed framebuffer of the app.
-fn clear_layers(gl: &Gl, mv: &Multiview, f: &impl Fn()) -> bool {
-    let Some(shadow) = mv.shadows.get(&mv.app.draw_fbo).filter(|_| mv.app.draw_fbo != 0) else {
+fn clear_layers(gl: &Gl, app: &AppState, mv: &Multiview, f: &impl Fn()) -> bool {
+    let Some(shadow) = mv.shadows.get(&app.draw_fbo).filter(|_| app.draw_fbo != 0) else {
         return false;
     };
     for &view in &shadow.views {
@@ -181,17 +194,17 @@ fn clear_layers(gl: &Gl, mv: &Multiview, f: &impl Fn()) -> bool {
         unsafe { gl.BindFramebuffer(DRAW_FRAMEBUFFER, view) };
         f();
     }
-    unsafe { gl.BindFramebuffer(DRAW_FRAMEBUFFER, mv.app.draw_fbo) };
+    unsafe { gl.BindFramebuffer(DRAW_FRAMEBUFFER, app.draw_fbo) };
     true
 }
 
 /// Clears every tile (or the app's scissored part of each) while framebuffer 0 is bound, and
 /// every layer of a shadowed framebuffer.
-pub fn clear(gl: &Gl, mv: &Multiview, f: impl Fn()) {
-    if clear_layers(gl, mv, &f) {
+pub fn clear(gl: &Gl, app: &AppState, mv: &Multiview, f: impl Fn()) {
+    if clear_layers(gl, app, mv, &f) {
         return;
     }
-    let Some(layout) = mv.layout().filter(|_| mv.on_default_draw()) else {
+    let Some(layout) = mv.layout().filter(|_| mv.on_default_draw(app)) else {
         return f();
     };
     // SAFETY: querying and restoring the scissor test around our per-tile clears.
@@ -200,32 +213,30 @@ pub fn clear(gl: &Gl, mv: &Multiview, f: impl Fn()) {
         return f();
     }
     for i in 0..layout.views() {
-        let r = intersect(layout.map_rect(i, mv.app.scissor), layout.tile_rect(i));
+        let r = intersect(layout.map_rect(i, app.scissor), layout.tile_rect(i));
         unsafe { gl.Scissor(r[0], r[1], r[2], r[3]) };
         f();
     }
-    let s = mv.app.scissor;
+    let s = app.scissor;
     unsafe { gl.Scissor(s[0], s[1], s[2], s[3]) };
 }
 
 /// Source rectangle of a read from framebuffer 0: the centre view's tile.
-pub fn centre_rect(mv: &Multiview, r: [i32; 4]) -> Option<[i32; 4]> {
-    let layout = mv
-        .layout()
-        .filter(|_| mv.app.read_fbo == 0 && mv.quilt_fbo().is_some())?;
-    Some(layout.map_rect(mv.rig.centre(), r))
+pub fn centre_rect(app: &AppState, mv: &Multiview, r: [i32; 4]) -> Option<[i32; 4]> {
+    let layout = mv.layout().filter(|_| app.read_fbo == 0 && mv.quilt_fbo().is_some())?;
+    Some(layout.map_rect(mv.camera.rig.centre(), r))
 }
 
 /// `glBlitFramebuffer` between framebuffer 0 (tiles) and the app's framebuffers (layers when
 /// shadowed): view i reads view i's tile or layer and writes view i's; a view-dependent
 /// source makes its destination view-dependent too. A single-view end reads the centre.
-pub fn blit(gl: &Gl, mv: &mut Multiview, src: [i32; 4], dst: [i32; 4], f: impl Fn([i32; 4], [i32; 4])) {
+pub fn blit(gl: &Gl, app: &AppState, mv: &mut Multiview, src: [i32; 4], dst: [i32; 4], f: impl Fn([i32; 4], [i32; 4])) {
     let Some(layout) = mv.layout().filter(|_| mv.quilt_fbo().is_some()) else {
         return f(src, dst);
     };
     let corners = |r: [i32; 4]| [r[0], r[1], r[2] - r[0], r[3] - r[1]];
     let back = |r: [i32; 4]| [r[0], r[1], r[0] + r[2], r[1] + r[3]];
-    let (read, draw) = (mv.app.read_fbo, mv.app.draw_fbo);
+    let (read, draw) = (app.read_fbo, app.draw_fbo);
     let src_layers = mv.shadows.get(&read).filter(|_| read != 0).map(|s| s.views.clone());
     let dst_layers = match (draw, &src_layers) {
         (0, _) => None,
@@ -235,7 +246,7 @@ pub fn blit(gl: &Gl, mv: &mut Multiview, src: [i32; 4], dst: [i32; 4], f: impl F
     let per_view = draw == 0 || src_layers.is_some() || dst_layers.is_some();
     if !per_view {
         let s = if read == 0 {
-            back(layout.map_rect(mv.rig.centre(), corners(src)))
+            back(layout.map_rect(mv.camera.rig.centre(), corners(src)))
         } else {
             src
         };
@@ -263,16 +274,16 @@ pub fn blit(gl: &Gl, mv: &mut Multiview, src: [i32; 4], dst: [i32; 4], f: impl F
         }
         f(s, d);
     }
-    rebind(gl, mv);
+    rebind(gl, app, mv);
 }
 
 /// Reads from a shadowed framebuffer of the app come from the centre view's layer: binds it
 /// for reading (the caller rebinds with `rebind`).
-pub fn read_centre_layer(gl: &Gl, mv: &Multiview) -> bool {
-    let Some(s) = mv.shadows.get(&mv.app.read_fbo).filter(|_| mv.app.read_fbo != 0) else {
+pub fn read_centre_layer(gl: &Gl, app: &AppState, mv: &Multiview) -> bool {
+    let Some(s) = mv.shadows.get(&app.read_fbo).filter(|_| app.read_fbo != 0) else {
         return false;
     };
-    let view = s.views[(mv.rig.centre() as usize).min(s.views.len() - 1)];
+    let view = s.views[(mv.camera.rig.centre() as usize).min(s.views.len() - 1)];
     // SAFETY: our view framebuffer for reading.
     unsafe { gl.BindFramebuffer(READ_FRAMEBUFFER, view) };
     true

@@ -2,11 +2,12 @@
 
 use super::Multiview;
 use crate::gl::*;
+use crate::state::AppState;
 
 /// Starts compiling the coming `glBegin`…`glEnd` block into our list, when it will need
 /// replaying (drawn to framebuffer 0, compatibility context, app not compiling a list).
-pub fn begin(gl: &Gl, mv: &mut Multiview) {
-    if !mv.on_default_draw() || mv.compiling_list || mv.info.es || !gl.NewList.is_loaded() {
+pub fn begin(gl: &Gl, app: &AppState, mv: &mut Multiview) {
+    if !mv.on_default_draw(app) || app.compiling_list || mv.info.es || !gl.NewList.is_loaded() {
         return;
     }
     // SAFETY: list creation and compile mode in the current compatibility context.

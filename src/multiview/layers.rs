@@ -3,36 +3,17 @@
 use super::Multiview;
 use super::shadow::{self, ShadowFbo};
 use crate::gl::*;
-
-/// Texture bindings of `GL_TEXTURE_2D` per unit, as the app made them.
-#[derive(Clone, Debug, Default)]
-pub struct TextureUnits {
-    pub active: u32,
-    pub bound_2d: Vec<u32>,
-}
-
-impl TextureUnits {
-    pub fn bind(&mut self, unit: u32, texture: u32) {
-        let unit = unit as usize;
-        if unit >= 192 {
-            return;
-        }
-        if self.bound_2d.len() <= unit {
-            self.bound_2d.resize(unit + 1, 0);
-        }
-        self.bound_2d[unit] = texture;
-    }
-}
+use crate::state::AppState;
 
 /// Units whose bound texture has layer views: (unit, app texture, views).
 pub type Substitutions = Vec<(u32, u32, Vec<u32>)>;
 
-pub fn substitutions(mv: &Multiview) -> Substitutions {
+pub fn substitutions(app: &AppState, mv: &Multiview) -> Substitutions {
     if mv.shadows.is_empty() {
         return Vec::new();
     }
     let mut subs = Vec::new();
-    for (unit, &tex) in mv.units.bound_2d.iter().enumerate().filter(|(_, t)| **t != 0) {
+    for (unit, &tex) in app.units.bound_2d.iter().enumerate().filter(|(_, t)| **t != 0) {
         if let Some(views) = mv.shadows.values().find_map(|s| s.layer_views_of(tex)) {
             subs.push((unit as u32, tex, views.to_vec()));
         }
@@ -41,7 +22,7 @@ pub fn substitutions(mv: &Multiview) -> Substitutions {
 }
 
 /// Binds view `i`'s layers (`None`: the app's own textures back) on the substituted units.
-pub fn bind_layers(gl: &Gl, mv: &Multiview, subs: &Substitutions, i: Option<usize>) {
+pub fn bind_layers(gl: &Gl, app: &AppState, subs: &Substitutions, i: Option<usize>) {
     if subs.is_empty() {
         return;
     }
@@ -51,7 +32,7 @@ pub fn bind_layers(gl: &Gl, mv: &Multiview, subs: &Substitutions, i: Option<usiz
             gl.ActiveTexture(TEXTURE0 + unit);
             gl.BindTexture(TEXTURE_2D, i.map_or(*app, |i| views[i.min(views.len() - 1)]));
         }
-        gl.ActiveTexture(TEXTURE0 + mv.units.active);
+        gl.ActiveTexture(TEXTURE0 + app.units.active);
     }
 }
 
@@ -120,7 +101,7 @@ pub fn ensure_shadow(gl: &Gl, mv: &mut Multiview, fbo: u32, why: &str) -> Option
     {
         return None;
     }
-    let n = mv.rig.views;
+    let n = mv.camera.rig.views;
     // Texture targets are the share group's: the attachments may come from another context.
     let group = crate::state::with_current(|cur| cur.map(|cur| cur.ctx.group.clone()));
     let target_of = |t| group.as_ref().map_or(0, |g| g.textures.target_of(t));

@@ -6,6 +6,7 @@
 
 use super::Multiview;
 use crate::gl::*;
+use crate::state::AppState;
 use crate::state::ShareGroup;
 
 /// A uniform of the current program that holds the camera projection (or its inverse).
@@ -21,40 +22,20 @@ fn close(a: &[f32; 16], b: &[f64; 16]) -> bool {
     a.iter().zip(b).all(|(x, y)| (*x as f64 - y).abs() <= 1e-5 * scale)
 }
 
-/// 4x4 inverse (column-major) by cofactors, in f64.
-pub fn invert(m: &[f64; 16]) -> Option<[f64; 16]> {
-    let at = |c: usize, r: usize| m[c * 4 + r];
-    let mut inv = [0f64; 16];
-    for c in 0..4 {
-        for r in 0..4 {
-            let minor = |skip_c: usize, skip_r: usize| {
-                let cols: Vec<usize> = (0..4).filter(|&x| x != skip_c).collect();
-                let rows: Vec<usize> = (0..4).filter(|&x| x != skip_r).collect();
-                let e = |i: usize, j: usize| at(cols[i], rows[j]);
-                e(0, 0) * (e(1, 1) * e(2, 2) - e(2, 1) * e(1, 2)) - e(1, 0) * (e(0, 1) * e(2, 2) - e(2, 1) * e(0, 2))
-                    + e(2, 0) * (e(0, 1) * e(1, 2) - e(1, 1) * e(0, 2))
-            };
-            let sign = if (c + r) % 2 == 0 { 1.0 } else { -1.0 };
-            // inverse = adjugate / det: adjugate(c, r) = cofactor(r, c).
-            inv[c * 4 + r] = sign * minor(r, c);
-        }
-    }
-    let det: f64 = (0..4).map(|c| at(c, 0) * inv[c]).sum();
-    (det.abs() > 1e-300).then(|| inv.map(|v| v / det))
-}
-
 /// The camera-projection uniforms of the current program, when it is a screen-space pass.
-pub fn camera_uniforms(mv: &Multiview, group: &ShareGroup, identity: bool) -> Vec<CameraUniform> {
-    let Some(p) = mv.camera_projection.filter(|_| identity && mv.program != 0) else {
+pub fn camera_uniforms(app: &AppState, mv: &Multiview, group: &ShareGroup, identity: bool) -> Vec<CameraUniform> {
+    let Some(p) = mv.camera.camera_projection.filter(|_| identity && app.program != 0) else {
         return Vec::new();
     };
     let p64 = p.map(f64::from);
-    let Some(inv) = invert(&p64) else { return Vec::new() };
+    let Some(inv) = crate::camera::invert(&p64) else {
+        return Vec::new();
+    };
     let state = group.lock();
     state
         .matrices
         .iter()
-        .filter(|((prog, _), _)| *prog == mv.program)
+        .filter(|((prog, _), _)| *prog == app.program)
         .filter_map(|(&(_, loc), m)| {
             let inverse = close(m, &inv);
             (inverse || close(m, &p64)).then_some(CameraUniform {
@@ -67,15 +48,15 @@ pub fn camera_uniforms(mv: &Multiview, group: &ShareGroup, identity: bool) -> Ve
 }
 
 /// Uploads view `i`'s sheared projection (or its inverse); `None`: the app's values back.
-pub fn set(gl: &Gl, mv: &Multiview, uniforms: &[CameraUniform], i: Option<u32>) {
-    let Some(p) = mv.camera_projection else { return };
+pub fn set(gl: &Gl, app: &AppState, mv: &Multiview, uniforms: &[CameraUniform], i: Option<u32>) {
+    let Some(p) = mv.camera.camera_projection else { return };
     for u in uniforms {
         let value = match i {
             None => u.original,
             Some(i) => {
-                let sheared = mv.rig.shear(i, &p.map(f64::from));
+                let sheared = mv.camera.rig.shear(i, &p.map(f64::from));
                 let m = if u.inverse {
-                    invert(&sheared).unwrap_or(sheared)
+                    crate::camera::invert(&sheared).unwrap_or(sheared)
                 } else {
                     sheared
                 };
@@ -84,7 +65,7 @@ pub fn set(gl: &Gl, mv: &Multiview, uniforms: &[CameraUniform], i: Option<u32>) 
         };
         // SAFETY: a uniform of the current program, through the real entry point (so our
         // tracking keeps the app's value).
-        unsafe { gl.ProgramUniformMatrix4fv(mv.program, u.loc, 1, FALSE, value.as_ptr()) };
+        unsafe { gl.ProgramUniformMatrix4fv(app.program, u.loc, 1, FALSE, value.as_ptr()) };
     }
 }
 
@@ -95,7 +76,7 @@ mod tests {
         let p = [
             1.5, 0., 0., 0., 0., 2.0, 0., 0., 0.1, -0.2, -1.002, -1., 0., 0., -0.2002, 0.,
         ];
-        let inv = super::invert(&p).unwrap();
+        let inv = crate::camera::invert(&p).unwrap();
         for c in 0..4 {
             for r in 0..4 {
                 let v: f64 = (0..4).map(|k| p[k * 4 + r] * inv[c * 4 + k]).sum();

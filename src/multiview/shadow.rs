@@ -12,8 +12,8 @@
 //! Built with GL 4.5 direct state access and texture views (4.3): no binding of ours is ever
 //! visible to the app. Older contexts keep the centre view in off-screen passes.
 
+use crate::gl::GlInfo;
 use crate::gl::*;
-use crate::state::GlInfo;
 
 pub struct ShadowAttachment {
     pub point: GLenum,

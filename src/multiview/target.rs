@@ -4,9 +4,9 @@
 //! blending with destination alpha behaves as it would on screen.
 
 use super::layout::QuiltLayout;
+use crate::gl::GlInfo;
 use crate::gl::guard::StateGuard;
 use crate::gl::*;
-use crate::state::GlInfo;
 
 pub struct QuiltTarget {
     pub fbo: u32,

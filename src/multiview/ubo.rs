@@ -4,6 +4,7 @@
 //! change (tracked by the buffer hooks), because on a real GPU a buffer read can wait for it.
 
 use crate::gl::*;
+use crate::state::share::UboMember;
 use std::ffi::CString;
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -17,14 +18,6 @@ pub fn buffers_changed() {
 
 pub fn generation() -> u64 {
     GENERATION.load(Ordering::Relaxed)
-}
-
-/// Where a `mat4` block member lives.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct UboMember {
-    pub block: u32,
-    pub offset: i32,
-    pub row_major: bool,
 }
 
 /// The block member called `name` in `program`, if it is one (desktop GL 3.1+).

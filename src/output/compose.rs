@@ -3,6 +3,7 @@
 //! the lenticular weave (`native`). All GL state touched is restored, so the app's next frame
 //! starts from exactly where it left off.
 
+use super::Presenter;
 use crate::config::Output;
 use crate::gl::guard::StateGuard;
 use crate::gl::*;
@@ -60,7 +61,13 @@ fn clear_window(gl: &Gl) {
 }
 
 /// Draws the quilt into the real default framebuffer (`window` pixels) as `output` asks.
-pub fn present(gl: &Gl, mv: &mut Multiview, window: (u32, u32), output: Output) -> Result<(), String> {
+pub fn present(
+    gl: &Gl,
+    presenter: &mut Presenter,
+    mv: &Multiview,
+    window: (u32, u32),
+    output: Output,
+) -> Result<(), String> {
     let target = mv.target.as_ref().ok_or("no quilt")?;
     let (layout, quilt_fbo, quilt_tex): (QuiltLayout, u32, u32) = (target.layout, target.fbo, target.color);
     let _guard = StateGuard::new(gl, mv.info).framebuffers().for_pass();
@@ -74,7 +81,7 @@ pub fn present(gl: &Gl, mv: &mut Multiview, window: (u32, u32), output: Output) 
     }
     let win = [0, 0, window.0 as i32, window.1 as i32];
     match output {
-        Output::Mono => blit(gl, corners(layout.tile_rect(mv.rig.centre())), win, LINEAR),
+        Output::Mono => blit(gl, corners(layout.tile_rect(mv.camera.rig.centre())), win, LINEAR),
         Output::Quilt => {
             clear_window(gl);
             blit(
@@ -90,7 +97,7 @@ pub fn present(gl: &Gl, mv: &mut Multiview, window: (u32, u32), output: Output) 
             blit(gl, corners(layout.tile_rect(l)), [0, 0, half, win[3]], LINEAR);
             blit(gl, corners(layout.tile_rect(r)), [half, 0, win[2], win[3]], LINEAR);
         }
-        Output::Anaglyph => anaglyph(gl, mv, quilt_tex, layout, window)?,
+        Output::Anaglyph => anaglyph(gl, presenter, mv, quilt_tex, layout, window)?,
         Output::Native => {
             let device = mv.settings.device.clone().ok_or("--output native needs --device")?;
             let input = crate::output::native::WeaveInput {
@@ -100,7 +107,7 @@ pub fn present(gl: &Gl, mv: &mut Multiview, window: (u32, u32), output: Output) 
                 grid: (layout.cols, layout.rows),
                 filter: mv.settings.weave_filter,
             };
-            let t = crate::output::native::weave(gl, mv.info, &mut mv.passes, &mut mv.native, &input)?;
+            let t = crate::output::native::weave(gl, mv.info, &mut presenter.passes, &mut presenter.native, &input)?;
             let (fbo, size) = (t.fbo, t.size);
             // SAFETY: the woven image to the window, fitted.
             unsafe {
@@ -122,12 +129,13 @@ pub fn present(gl: &Gl, mv: &mut Multiview, window: (u32, u32), output: Output) 
 
 fn anaglyph(
     gl: &Gl,
-    mv: &mut Multiview,
+    presenter: &mut Presenter,
+    mv: &Multiview,
     quilt_tex: u32,
     layout: QuiltLayout,
     window: (u32, u32),
 ) -> Result<(), String> {
-    let program = mv
+    let program = presenter
         .passes
         .program(gl, mv.info, "anaglyph", crate::output::pass::ANAGLYPH_FRAG)?;
     let (l, r) = stereo_pair(layout.views());
@@ -144,7 +152,7 @@ fn anaglyph(
         gl.Uniform4i(u("u_right"), tr[0], tr[1], tr[2], tr[3]);
         gl.Uniform2i(u("u_out_size"), window.0 as i32, window.1 as i32);
     }
-    mv.passes.draw(gl);
+    presenter.passes.draw(gl);
     Ok(())
 }
 

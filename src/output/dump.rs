@@ -11,7 +11,7 @@ pub fn presented(frame: u64, surface: usize, settings: &Settings) -> Result<(), 
             "the presented surface {surface:#x} is not the one current on this thread"
         ));
     }
-    let (w, h) = super::surface::size(&cur).ok_or("the surface size is unknown")?;
+    let (w, h) = crate::state::surface_size(&cur).ok_or("the surface size is unknown")?;
     let (gl, info) = cur.ctx.gl().ok_or("the context's GL functions could not be loaded")?;
     let rgba = readback::read_presented(gl, *info, w, h)?;
     let rgb = super::png::rgba_bottom_up_to_rgb_top_down(&rgba, w, h);
@@ -45,14 +45,15 @@ pub fn quilt(
 pub fn native(
     frame: u64,
     gl: &crate::gl::Gl,
-    mv: &crate::multiview::Multiview,
+    presenter: &super::Presenter,
+    info: crate::gl::GlInfo,
     settings: &Settings,
 ) -> Result<(), String> {
-    let (Some(dir), Some(t)) = (settings.dump_dir.as_ref(), mv.native.as_ref()) else {
+    let (Some(dir), Some(t)) = (settings.dump_dir.as_ref(), presenter.native.as_ref()) else {
         return Ok(());
     };
     let (w, h) = t.size;
-    let rgba = readback::read_rgba(gl, mv.info, readback::Source::Fbo(t.fbo), [0, 0, w as i32, h as i32])?;
+    let rgba = readback::read_rgba(gl, info, readback::Source::Fbo(t.fbo), [0, 0, w as i32, h as i32])?;
     let rgb = super::png::rgba_bottom_up_to_rgb_top_down(&rgba, w, h);
     super::png::write_rgb(&dir.join(format!("f{frame:06}_native.png")), w, h, &rgb)
 }

@@ -6,8 +6,8 @@
 use super::pass::{self, Passes};
 use super::weave::Filter;
 use crate::config::device::Device;
+use crate::gl::GlInfo;
 use crate::gl::*;
-use crate::state::GlInfo;
 
 /// The native-resolution target, created on first use per context.
 pub struct NativeTarget {

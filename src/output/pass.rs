@@ -2,8 +2,8 @@
 //! `glsl-patches/`. Sources are written as GLSL 3.30 core; ES 3 contexts get the same code
 //! under `#version 300 es` with explicit precision.
 
+use crate::gl::GlInfo;
 use crate::gl::*;
-use crate::state::GlInfo;
 use std::ffi::CString;
 
 pub const FULLSCREEN_VERT: &str = include_str!("../../glsl-patches/fullscreen.vert");

@@ -19,6 +19,7 @@
 //! mixes it with the next view, `Gaussian` weighs views by their distance to `view`. Views are
 //! never wrapped from N-1 to 0: the two ends of the view cone are the most different images.
 
+pub use crate::config::WeaveFilter as Filter;
 use crate::config::calibration::WeaveParams;
 
 /// The largest `f32` below 1: `fract` can round up to 1 and `1 - fract` is 1 at 0.
@@ -26,27 +27,6 @@ const ONE_BELOW: f32 = 0.999_999_94;
 /// Gaussian taps reach at most this many views either side (the shader's loop bound).
 pub const MAX_GAUSSIAN_RADIUS: i32 = 8;
 const MAX_TAPS: usize = 2 * MAX_GAUSSIAN_RADIUS as usize + 2;
-
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Filter {
-    Nearest,
-    BlendNext,
-    /// `sigma` in views.
-    Gaussian {
-        sigma: f32,
-    },
-}
-
-impl Filter {
-    /// The shader's `u_filter` value.
-    pub fn mode(self) -> i32 {
-        match self {
-            Filter::Nearest => 0,
-            Filter::BlendNext => 1,
-            Filter::Gaussian { .. } => 2,
-        }
-    }
-}
 
 /// The Gen3 cell of pixel `(x, y)`, `None` on a classic panel.
 pub fn cell_index(params: &WeaveParams, x: u32, y: u32) -> Option<usize> {

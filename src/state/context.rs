@@ -1,10 +1,15 @@
-//! One application context: its platform, share group and the GL table the layer calls
-//! through (loaded once, via the platform's real loader, at first make-current).
+//! One application context: its platform, share group, the GL table the layer calls
+//! through (loaded once, via the platform's real loader, at first make-current), the app's
+//! state in it, and the layer's per-context data (owned by the layers above, which `state`
+//! does not name: see [`ContextLayer`]).
 
 use super::ShareGroup;
-use crate::gl::{Gl, SharedGl};
-use crate::hook::{HOOK_COUNT, HOOKS, id, real};
+use super::app::AppState;
+use super::orphans::LayerObjects;
+use crate::gl::{Gl, GlInfo, SharedGl};
+use crate::real::{self, HOOK_COUNT, HOOKS, id};
 use core::ffi::{CStr, c_void};
+use std::any::Any;
 use std::sync::atomic::{AtomicPtr, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard, OnceLock};
 
@@ -25,31 +30,20 @@ pub struct Binding {
     pub size: Option<(u32, u32)>,
 }
 
-/// What `glGetString(GL_VERSION)` says about the context.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct GlInfo {
-    pub es: bool,
-    pub major: u32,
-    pub minor: u32,
+/// The layer's own per-context data (replay state, GPU objects, presenter), defined by the
+/// layers above `state`. `state` only needs to know what of it outlives the context.
+pub trait ContextLayer: Any + Send {
+    /// What of ours lives on in the share group after this context is destroyed.
+    fn shared_objects(&self) -> LayerObjects;
+    fn as_any_mut(&mut self) -> &mut dyn Any;
 }
 
-impl GlInfo {
-    pub fn parse(version: &str) -> GlInfo {
-        let es = version.starts_with("OpenGL ES");
-        let numbers = version.trim_start_matches(|c: char| !c.is_ascii_digit());
-        let mut it = numbers
-            .split(|c: char| !c.is_ascii_digit())
-            .filter_map(|n| n.parse().ok());
-        GlInfo {
-            es,
-            major: it.next().unwrap_or(1),
-            minor: it.next().unwrap_or(0),
-        }
-    }
-
-    pub fn at_least(&self, major: u32, minor: u32) -> bool {
-        (self.major, self.minor) >= (major, minor)
-    }
+/// What a context's lock guards: the app's state (once the context has been current) and the
+/// layer's data (once multiview is set up in it).
+#[derive(Default)]
+pub struct Tracked {
+    pub app: Option<AppState>,
+    pub layer: Option<Box<dyn ContextLayer>>,
 }
 
 pub struct Context {
@@ -57,8 +51,7 @@ pub struct Context {
     pub handle: usize,
     pub display: usize,
     pub group: Arc<ShareGroup>,
-    /// Multiview state (None until the context is first made current with multiview on).
-    pub mv: Mutex<Option<crate::multiview::Multiview>>,
+    tracked: Mutex<Tracked>,
     gl: OnceLock<Option<(SharedGl, GlInfo)>>,
     real: Box<[AtomicPtr<c_void>]>,
 }
@@ -71,14 +64,16 @@ impl Context {
             handle,
             display,
             group,
-            mv: Mutex::new(None),
+            tracked: Mutex::new(Tracked::default()),
             gl: OnceLock::new(),
             real,
         }
     }
 
-    pub fn mv(&self) -> MutexGuard<'_, Option<crate::multiview::Multiview>> {
-        self.mv.lock().unwrap_or_else(|e| e.into_inner())
+    /// The app's state and the layer's data in this context. Uncontended in practice: a
+    /// context is current on one thread at a time.
+    pub fn tracked(&self) -> MutexGuard<'_, Tracked> {
+        self.tracked.lock().unwrap_or_else(|e| e.into_inner())
     }
 
     fn loader(&self) -> *const c_void {
@@ -89,8 +84,13 @@ impl Context {
         })
     }
 
+    /// Loads the GL table and, the first time, reads the app's state from GL.
     pub fn on_made_current(&self) {
-        let _ = self.gl();
+        let Some((gl, info)) = self.gl() else { return };
+        let mut t = self.tracked();
+        if t.app.is_none() {
+            t.app = Some(AppState::read(gl, *info));
+        }
     }
 
     /// The layer's own GL table for this context; only valid while it is current.
@@ -129,8 +129,8 @@ impl Drop for Context {
     /// the objects the layer made in it that its share group keeps are handed to the group
     /// (see `orphans`), unless this was the group's last context.
     fn drop(&mut self) {
-        let mv = self.mv.get_mut().unwrap_or_else(|e| e.into_inner()).take();
-        let objects = mv.map(|mv| mv.shared_objects()).unwrap_or_default();
+        let layer = self.tracked.get_mut().unwrap_or_else(|e| e.into_inner()).layer.take();
+        let objects = layer.map(|l| l.shared_objects()).unwrap_or_default();
         if objects.count() == 0 {
             return;
         }
@@ -154,32 +154,4 @@ fn version_string(gl: &Gl) -> Option<String> {
         return None;
     }
     Some(unsafe { CStr::from_ptr(p.cast()) }.to_string_lossy().into_owned())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::GlInfo;
-
-    #[test]
-    fn parses_desktop_and_es_version_strings() {
-        let d = GlInfo::parse("4.5 (Compatibility Profile) Mesa 22.3.6");
-        assert_eq!(
-            d,
-            GlInfo {
-                es: false,
-                major: 4,
-                minor: 5
-            }
-        );
-        let e = GlInfo::parse("OpenGL ES 3.2 Mesa 22.3.6");
-        assert_eq!(
-            e,
-            GlInfo {
-                es: true,
-                major: 3,
-                minor: 2
-            }
-        );
-        assert!(e.at_least(3, 0) && !e.at_least(3, 3));
-    }
 }

@@ -6,17 +6,21 @@
 //! or through an entry point we do not wrap) are registered lazily, in a share group of their
 //! own.
 
+pub mod app;
 mod context;
 pub mod orphans;
 pub mod share;
+mod surface;
 pub mod textures;
 
-pub use context::{Binding, Context, GlInfo, Platform};
+pub use app::{AppState, TextureUnits};
+pub use context::{Binding, Context, ContextLayer, Platform, Tracked};
 pub use share::ShareGroup;
 use std::cell::RefCell;
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
+pub use surface::size as surface_size;
 
 type Key = (Platform, usize);
 
@@ -38,8 +42,15 @@ fn registry() -> MutexGuard<'static, Option<HashMap<Key, Arc<Context>>>> {
     REGISTRY.lock().unwrap_or_else(|e| e.into_inner())
 }
 
-pub fn context_created(platform: Platform, handle: usize, display: usize, share: usize) {
+/// The layer's first sight of GL activity: the start-up line, then the settings (whose
+/// problems are reported once, after it).
+fn announce() {
     crate::log::announce();
+    crate::config::settings();
+}
+
+pub fn context_created(platform: Platform, handle: usize, display: usize, share: usize) {
+    announce();
     let mut reg = registry();
     let map = reg.get_or_insert_with(HashMap::new);
     let group = match map.get(&(platform, share)) {
@@ -80,15 +91,13 @@ pub fn make_current(platform: Platform, handle: usize, binding: Binding) {
     if handle == 0 {
         return;
     }
-    crate::log::announce();
+    announce();
     let ctx = lookup_or_adopt(platform, handle, binding.display);
     ctx.on_made_current();
     if let Some((gl, _)) = ctx.gl() {
         ctx.group.delete_orphans(gl);
     }
-    let cur = Current { ctx, binding };
-    crate::multiview::on_make_current(&cur);
-    CURRENT.with(|c| *c.borrow_mut() = Some(cur));
+    CURRENT.with(|c| *c.borrow_mut() = Some(Current { ctx, binding }));
 }
 
 pub fn context_destroyed(platform: Platform, handle: usize) {
@@ -132,11 +141,23 @@ pub fn with_current<R>(f: impl FnOnce(Option<&Current>) -> R) -> R {
     CURRENT.with(|c| f(c.borrow().as_ref()))
 }
 
-/// Real GL entry point `id` as loaded for the current context.
-pub fn current_real(id: usize) -> Option<*const core::ffi::c_void> {
+/// The real GL function behind hook `id` for the calling thread's current context (GL entry
+/// points differ per context: an OSMesa context and a libGL one in one process have
+/// different `glFinish`es), else the process-wide one.
+pub fn real_gl(id: usize) -> *const core::ffi::c_void {
     CURRENT
         .with(|c| c.borrow().as_ref().map(|cur| cur.ctx.real_gl(id)))
         .filter(|p| !p.is_null())
+        .unwrap_or_else(|| crate::real::global(id))
+}
+
+/// Runs `f` with the app's state in the calling thread's current context, if it has one.
+pub fn with_app<R>(f: impl FnOnce(&mut AppState) -> R) -> Option<R> {
+    with_current(|cur| {
+        let cur = cur?;
+        let mut t = cur.ctx.tracked();
+        t.app.as_mut().map(f)
+    })
 }
 
 /// For contexts that never swap (OSMesa): the surface whose frame `glFinish` ends.

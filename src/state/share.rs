@@ -9,6 +9,14 @@ use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Mutex, MutexGuard};
 
+/// Where a `mat4` uniform-block member lives (a projection uploaded through a buffer).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct UboMember {
+    pub block: u32,
+    pub offset: i32,
+    pub row_major: bool,
+}
+
 /// What the layer knows about one linked program.
 #[derive(Clone, Debug, Default)]
 pub struct ProgramInfo {
@@ -19,7 +27,7 @@ pub struct ProgramInfo {
     pub projection_loc: Option<i32>,
     /// Otherwise, the uniform-block member holding it, and its value as last read (with the
     /// buffer generation it was read at).
-    pub projection_ubo: Option<crate::multiview::ubo::UboMember>,
+    pub projection_ubo: Option<UboMember>,
     pub ubo_cache: Option<(u64, [f32; 16])>,
     /// gl_Position comes from the compatibility built-ins (`ftransform`, `gl_ModelView…`).
     pub builtin_projection: bool,

@@ -37,6 +37,7 @@ pub fn eglMakeCurrent(
             size: None,
         };
         crate::state::make_current(Platform::Egl, ctx as usize, binding);
+        crate::hook::layer::on_make_current();
     }
     ok
 }
@@ -67,7 +68,7 @@ pub fn eglSwapBuffers(
     surface: EGLSurface,
 ) -> EGLBoolean {
     let mut ok = 0;
-    crate::output::frame_boundary(surface as usize, || ok = real(dpy, surface));
+    crate::hook::frame::boundary(surface as usize, || ok = real(dpy, surface));
     ok
 }
 
@@ -79,18 +80,8 @@ pub fn eglSwapBuffersWithDamageKHR(
     n: EGLint,
 ) -> EGLBoolean {
     let mut ok = 0;
-    crate::output::frame_boundary(surface as usize, || ok = real(dpy, surface, rects, n));
+    crate::hook::frame::boundary(surface as usize, || ok = real(dpy, surface, rects, n));
     ok
-}
-
-pub fn eglSwapBuffersWithDamageEXT(
-    real: impl Fn(EGLDisplay, EGLSurface, *mut EGLint, EGLint) -> EGLBoolean,
-    dpy: EGLDisplay,
-    surface: EGLSurface,
-    rects: *mut EGLint,
-    n: EGLint,
-) -> EGLBoolean {
-    eglSwapBuffersWithDamageKHR(real, dpy, surface, rects, n)
 }
 
 pub fn eglGetProcAddress(real: impl Fn(*const c_char) -> EglProc, name: *const c_char) -> EglProc {

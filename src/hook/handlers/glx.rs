@@ -54,6 +54,7 @@ fn made_current(ok: Bool, dpy: *mut Display, draw: GLXDrawable, read: GLXDrawabl
             size: None,
         };
         crate::state::make_current(Platform::Glx, ctx as usize, binding);
+        crate::hook::layer::on_make_current();
     }
     ok
 }
@@ -83,11 +84,7 @@ pub fn glXDestroyContext(real: impl Fn(*mut Display, GLXContext), dpy: *mut Disp
 }
 
 pub fn glXSwapBuffers(real: impl Fn(*mut Display, GLXDrawable), dpy: *mut Display, drawable: GLXDrawable) {
-    crate::output::frame_boundary(drawable as usize, || real(dpy, drawable));
-}
-
-pub fn glXGetProcAddress(real: impl Fn(*const GLubyte) -> __GLXextFuncPtr, name: *const GLubyte) -> __GLXextFuncPtr {
-    super::proc_result(name.cast(), real(name).cast()) as __GLXextFuncPtr
+    crate::hook::frame::boundary(drawable as usize, || real(dpy, drawable));
 }
 
 pub fn glXGetProcAddressARB(real: impl Fn(*const GLubyte) -> __GLXextFuncPtr, name: *const GLubyte) -> __GLXextFuncPtr {

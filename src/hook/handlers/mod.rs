@@ -1,4 +1,5 @@
-//! Hook bodies: a few lines each, handing over to `state` (contexts) and `output` (frames).
+//! Hook bodies: a few lines each, handing over to `state` (contexts, app state),
+//! `multiview` (replay), and `super::frame` (frame boundaries).
 //! Each receives `real`, the real entry point, and must call it exactly once unless it
 //! deliberately replaces the call.
 
@@ -20,15 +21,19 @@ pub fn proc_result(name: *const c_char, real: *const c_void) -> *const c_void {
     if real.is_null() {
         return real;
     }
-    let Some(id) = super::find(name) else {
+    if name.is_null() {
+        return real;
+    }
+    // SAFETY: callers of GetProcAddress pass a NUL-terminated name.
+    let Some(id) = crate::real::find(unsafe { core::ffi::CStr::from_ptr(name) }) else {
         return real;
     };
     if super::HOOKS[id].api != super::HookApi::Gl {
-        super::real::remember(id, real);
+        crate::real::remember(id, real);
     }
     crate::log::debug(format_args!(
         "GetProcAddress({}) -> hook",
         super::HOOKS[id].name.to_string_lossy()
     ));
-    super::HOOKS[id].addr.0
+    super::ADDRS[id].0
 }

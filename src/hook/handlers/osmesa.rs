@@ -57,6 +57,7 @@ pub fn OSMesaMakeCurrent(
             size,
         };
         crate::state::make_current(Platform::Osmesa, ctx as usize, binding);
+        crate::hook::layer::on_make_current();
     }
     ok
 }

@@ -14,7 +14,7 @@ pub fn glFlush(real: impl Fn()) {
 fn boundary_or_call(kind: Boundary, real: impl Fn()) {
     match crate::state::swapless_surface() {
         Some(surface) if crate::config::settings().osmesa_boundary == kind => {
-            crate::output::frame_boundary(surface, real)
+            crate::hook::frame::boundary(surface, real)
         }
         _ => real(),
     }

@@ -3,24 +3,22 @@
 //! clears, reads and blits address the right tiles.
 
 use crate::gl::types::*;
-use crate::multiview::{framebuffer as fb, with_active};
+use crate::hook::layer::with_active;
+use crate::multiview::framebuffer as fb;
 use core::ffi::c_void;
 
 pub fn glBindFramebuffer(real: impl Fn(GLenum, GLuint), target: GLenum, fbo: GLuint) {
-    let mapped = with_active(|_, mv, _| fb::bind(mv, target, fbo));
-    real(target, mapped.unwrap_or(fbo))
-}
+    let mapped = with_active(|_, app, mv, _| fb::bind(app, mv, target, fbo));
 
-pub fn glBindFramebufferEXT(real: impl Fn(GLenum, GLuint), target: GLenum, fbo: GLuint) {
-    glBindFramebuffer(real, target, fbo)
+    real(target, mapped.unwrap_or(fbo))
 }
 
 /// The app's buffer choice for framebuffer 0 is remembered and answered back; GL gets the
 /// quilt's attachment instead (GL_BACK is invalid on a framebuffer object).
 pub fn glDrawBuffer(real: impl Fn(GLenum), buf: GLenum) {
-    let mapped = with_active(|_, mv, _| {
-        (mv.quilt_fbo().is_some() && mv.app.draw_fbo == 0).then(|| {
-            mv.app.draw_buffer = buf;
+    let mapped = with_active(|_, app, mv, _| {
+        (mv.quilt_fbo().is_some() && app.draw_fbo == 0).then(|| {
+            app.draw_buffer = buf;
             fb::map_buffer(buf)
         })
     });
@@ -29,9 +27,9 @@ pub fn glDrawBuffer(real: impl Fn(GLenum), buf: GLenum) {
 }
 
 pub fn glReadBuffer(real: impl Fn(GLenum), buf: GLenum) {
-    let mapped = with_active(|_, mv, _| {
-        (mv.quilt_fbo().is_some() && mv.app.read_fbo == 0).then(|| {
-            mv.app.read_buffer = buf;
+    let mapped = with_active(|_, app, mv, _| {
+        (mv.quilt_fbo().is_some() && app.read_fbo == 0).then(|| {
+            app.read_buffer = buf;
             fb::map_buffer(buf)
         })
     });
@@ -41,8 +39,8 @@ pub fn glReadBuffer(real: impl Fn(GLenum), buf: GLenum) {
 /// New draw buffers on a shadowed framebuffer: its view framebuffers get the same (many
 /// renderers set them every frame, so the shadow is kept, not rebuilt).
 fn draw_buffers_changed(bufs: &[GLenum]) {
-    with_active(|_, mv, gl| {
-        let Some(s) = mv.shadows.get(&mv.app.draw_fbo).filter(|_| mv.app.draw_fbo != 0) else {
+    with_active(|_, app, mv, gl| {
+        let Some(s) = mv.shadows.get(&app.draw_fbo).filter(|_| app.draw_fbo != 0) else {
             return;
         };
         for &view in &s.views {
@@ -53,7 +51,8 @@ fn draw_buffers_changed(bufs: &[GLenum]) {
 }
 
 pub fn glDrawBuffers(real: impl Fn(GLsizei, *const GLenum), n: GLsizei, bufs: *const GLenum) {
-    let on_fb0 = with_active(|_, mv, _| mv.quilt_fbo().is_some() && mv.app.draw_fbo == 0).unwrap_or(false);
+    let on_fb0 = with_active(|_, app, mv, _| mv.quilt_fbo().is_some() && app.draw_fbo == 0).unwrap_or(false);
+
     if !on_fb0 || bufs.is_null() || n <= 0 {
         real(n, bufs);
         if !bufs.is_null() && n > 0 {
@@ -63,24 +62,24 @@ pub fn glDrawBuffers(real: impl Fn(GLsizei, *const GLenum), n: GLsizei, bufs: *c
         return;
     }
     // SAFETY: the app passes `n` buffer names.
-    let app: Vec<GLenum> = unsafe { std::slice::from_raw_parts(bufs, n as usize) }.to_vec();
-    with_active(|_, mv, _| mv.app.draw_buffer = app[0]);
-    let mapped: Vec<GLenum> = app.iter().map(|&b| fb::map_buffer(b)).collect();
+    let asked: Vec<GLenum> = unsafe { std::slice::from_raw_parts(bufs, n as usize) }.to_vec();
+    with_active(|_, app, _, _| app.draw_buffer = asked[0]);
+    let mapped: Vec<GLenum> = asked.iter().map(|&b| fb::map_buffer(b)).collect();
     real(n, mapped.as_ptr())
 }
 
 pub fn glViewport(real: impl Fn(GLint, GLint, GLsizei, GLsizei), x: GLint, y: GLint, w: GLsizei, h: GLsizei) {
-    with_active(|_, mv, _| mv.app.viewport = [x, y, w, h]);
+    crate::state::with_app(|app| app.viewport = [x, y, w, h]);
     real(x, y, w, h)
 }
 
 pub fn glScissor(real: impl Fn(GLint, GLint, GLsizei, GLsizei), x: GLint, y: GLint, w: GLsizei, h: GLsizei) {
-    with_active(|_, mv, _| mv.app.scissor = [x, y, w, h]);
+    crate::state::with_app(|app| app.scissor = [x, y, w, h]);
     real(x, y, w, h)
 }
 
 fn clear_tiles(f: impl Fn()) {
-    if with_active(|_, mv, gl| fb::clear(gl, mv, &f)).is_none() {
+    if with_active(|_, app, mv, gl| fb::clear(gl, app, mv, &f)).is_none() {
         f()
     }
 }
@@ -122,12 +121,12 @@ pub fn glReadPixels(
 /// Runs a read of the app's read framebuffer so it sees the centre view: the centre tile of
 /// framebuffer 0, or the centre layer of a shadowed framebuffer.
 fn centre_read(rect: [i32; 4], read: impl Fn([i32; 4])) {
-    let done = with_active(|_, mv, gl| {
-        if fb::read_centre_layer(gl, mv) {
+    let done = with_active(|_, app, mv, gl| {
+        if fb::read_centre_layer(gl, app, mv) {
             read(rect);
-            fb::rebind(gl, mv);
+            fb::rebind(gl, app, mv);
         } else {
-            read(fb::centre_rect(mv, rect).unwrap_or(rect));
+            read(fb::centre_rect(app, mv, rect).unwrap_or(rect));
         }
     });
     if done.is_none() {
@@ -180,7 +179,7 @@ pub fn glBlitFramebuffer(
     filter: GLenum,
 ) {
     let f = |s: [i32; 4], d: [i32; 4]| real(s[0], s[1], s[2], s[3], d[0], d[1], d[2], d[3], mask, filter);
-    if with_active(|_, mv, gl| fb::blit(gl, mv, [sx0, sy0, sx1, sy1], [dx0, dy0, dx1, dy1], f)).is_none() {
+    if with_active(|_, app, mv, gl| fb::blit(gl, app, mv, [sx0, sy0, sx1, sy1], [dx0, dy0, dx1, dy1], f)).is_none() {
         f([sx0, sy0, sx1, sy1], [dx0, dy0, dx1, dy1])
     }
 }
@@ -193,11 +192,11 @@ pub fn glInvalidateFramebuffer(
     n: GLsizei,
     atts: *const GLenum,
 ) {
-    let on_fb0 = with_active(|_, mv, _| {
+    let on_fb0 = with_active(|_, app, mv, _| {
         let app = if target == crate::gl::READ_FRAMEBUFFER {
-            mv.app.read_fbo
+            app.read_fbo
         } else {
-            mv.app.draw_fbo
+            app.draw_fbo
         };
         mv.quilt_fbo().is_some() && app == 0
     });

@@ -5,37 +5,37 @@
 //! app is itself compiling a list nothing is replayed: its list must contain its calls once.
 
 use crate::gl::types::*;
-use crate::multiview::with_active;
+use crate::hook::layer::with_active;
 
 pub fn glBegin(real: impl Fn(GLenum), mode: GLenum) {
-    with_active(|_, mv, gl| crate::multiview::immediate::begin(gl, mv));
+    with_active(|_, app, mv, gl| crate::multiview::immediate::begin(gl, app, mv));
     real(mode)
 }
 
 pub fn glEnd(real: impl Fn()) {
     real();
-    let list = with_active(|_, mv, gl| crate::multiview::immediate::end(gl, mv)).flatten();
+    let list = with_active(|_, _, mv, gl| crate::multiview::immediate::end(gl, mv)).flatten();
     if let Some(list) = list {
         super::per_view_gl(|gl| crate::multiview::immediate::call(gl, list));
     }
 }
 
 pub fn glNewList(real: impl Fn(GLuint, GLenum), list: GLuint, mode: GLenum) {
-    with_active(|_, mv, _| mv.compiling_list = true);
+    crate::state::with_app(|app| app.compiling_list = true);
     real(list, mode)
 }
 
 pub fn glEndList(real: impl Fn()) {
     real();
-    with_active(|_, mv, _| mv.compiling_list = false);
+    crate::state::with_app(|app| app.compiling_list = false);
 }
 
 pub fn glBeginTransformFeedback(real: impl Fn(GLenum), mode: GLenum) {
-    with_active(|_, mv, _| mv.transform_feedback = true);
+    crate::state::with_app(|app| app.transform_feedback = true);
     real(mode)
 }
 
 pub fn glEndTransformFeedback(real: impl Fn()) {
     real();
-    with_active(|_, mv, _| mv.transform_feedback = false);
+    crate::state::with_app(|app| app.transform_feedback = false);
 }

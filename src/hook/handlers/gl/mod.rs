@@ -1,7 +1,6 @@
 //! GL entry points, grouped by what the layer does with them.
 
 mod buffer;
-mod draw;
 mod frame;
 mod framebuffer;
 mod immediate;
@@ -12,7 +11,6 @@ mod raster;
 mod texture;
 
 pub use buffer::*;
-pub use draw::*;
 pub use frame::*;
 pub use framebuffer::*;
 pub use immediate::*;
@@ -22,9 +20,13 @@ pub use query::*;
 pub use raster::*;
 pub use texture::*;
 
-/// Replays `f` once per view when multiview applies to the current draw, else calls it once.
-fn per_view(f: impl Fn()) {
-    let done = crate::multiview::with_active(|cur, mv, gl| crate::multiview::replay::draw(gl, mv, &cur.ctx.group, &f));
+/// The handler of every `view` entry of the policy table (generated shims call it with the
+/// real call): replays `f` once per view when multiview applies to the current draw, else
+/// calls it once.
+pub fn per_view(f: impl Fn()) {
+    let done = crate::hook::layer::with_active(|cur, app, mv, gl| {
+        crate::multiview::replay::draw(gl, app, mv, &cur.ctx.group, &f)
+    });
     if done.is_none() {
         f()
     }
@@ -32,5 +34,7 @@ fn per_view(f: impl Fn()) {
 
 /// `per_view` for replays that issue GL calls of their own.
 fn per_view_gl(f: impl Fn(&crate::gl::Gl)) {
-    crate::multiview::with_active(|cur, mv, gl| crate::multiview::replay::draw(gl, mv, &cur.ctx.group, || f(gl)));
+    crate::hook::layer::with_active(|cur, app, mv, gl| {
+        crate::multiview::replay::draw(gl, app, mv, &cur.ctx.group, || f(gl))
+    });
 }

@@ -1,7 +1,6 @@
 //! Programs: link-time injection, the current program, and the matrices uploaded to it.
 
 use crate::gl::types::*;
-use crate::multiview::with_active;
 
 pub fn glLinkProgram(real: impl Fn(GLuint), program: GLuint) {
     if !crate::config::settings().multiview() {
@@ -19,7 +18,7 @@ pub fn glLinkProgram(real: impl Fn(GLuint), program: GLuint) {
 }
 
 pub fn glUseProgram(real: impl Fn(GLuint), program: GLuint) {
-    with_active(|_, mv, _| mv.program = program);
+    crate::state::with_app(|app| app.program = program);
     real(program)
 }
 
@@ -66,7 +65,11 @@ pub fn glUniformMatrix4fv(
     value: *const GLfloat,
 ) {
     real(loc, count, transpose, value);
-    if let Some(program) = with_active(|_, mv, _| mv.program) {
+    if let Some(program) = crate::config::settings()
+        .multiview()
+        .then(|| crate::state::with_app(|app| app.program))
+        .flatten()
+    {
         track_matrix(program, loc, count, transpose, value);
     }
 }

@@ -3,12 +3,13 @@
 //! are always built from source and pass through the link-time rewrite).
 
 use crate::gl::types::*;
-use crate::multiview::{framebuffer as fb, with_active};
+use crate::hook::layer::with_active;
+use crate::multiview::framebuffer as fb;
 
 const NUM_PROGRAM_BINARY_FORMATS: GLenum = 0x87FE;
 
 pub fn glGetIntegerv(real: impl Fn(GLenum, *mut GLint), pname: GLenum, data: *mut GLint) {
-    if with_active(|_, mv, gl| fb::on_real_default(gl, mv, pname, || real(pname, data)))
+    if with_active(|_, app, mv, gl| fb::on_real_default(gl, app, mv, pname, || real(pname, data)))
         .flatten()
         .is_some()
     {
@@ -21,7 +22,7 @@ pub fn glGetIntegerv(real: impl Fn(GLenum, *mut GLint), pname: GLenum, data: *mu
     let fixed = if pname == NUM_PROGRAM_BINARY_FORMATS {
         Some(0)
     } else {
-        with_active(|_, mv, _| fb::patch_get(mv, pname)).flatten()
+        with_active(|_, app, mv, _| fb::patch_get(app, mv, pname)).flatten()
     };
     if let Some(v) = fixed {
         // SAFETY: the app passed room for this query's answer (at least one integer).
@@ -67,7 +68,7 @@ pub fn glGetShaderiv(real: impl Fn(GLuint, GLenum, *mut GLint), shader: GLuint, 
 }
 
 pub fn glGetBooleanv(real: impl Fn(GLenum, *mut GLboolean), pname: GLenum, data: *mut GLboolean) {
-    if with_active(|_, mv, gl| fb::on_real_default(gl, mv, pname, || real(pname, data)))
+    if with_active(|_, app, mv, gl| fb::on_real_default(gl, app, mv, pname, || real(pname, data)))
         .flatten()
         .is_none()
     {
@@ -83,7 +84,7 @@ pub fn glGetFramebufferAttachmentParameteriv(
     params: *mut GLint,
 ) {
     let call = || real(target, attachment, pname, params);
-    if with_active(|_, mv, gl| fb::on_real_target(gl, mv, target, call))
+    if with_active(|_, app, mv, gl| fb::on_real_target(gl, app, mv, target, call))
         .flatten()
         .is_none()
     {

@@ -4,19 +4,20 @@
 //! get GL's error for it while multiview is on (documented in README).
 
 use crate::gl::types::*;
-use crate::multiview::{raster, replay, with_active};
+use crate::hook::layer::with_active;
+use crate::multiview::{raster, replay};
 use core::ffi::c_void;
 
 /// Replays a raster operation per view with the raster position moved into each tile;
 /// `advance` is how far the app's single call moves the raster position.
 fn per_view_raster(advance: (f32, f32), f: impl Fn(Option<[i32; 4]>)) {
-    let done = with_active(|cur, mv, gl| {
-        if mv.info.es || !mv.on_default_draw() {
+    let done = with_active(|cur, app, mv, gl| {
+        if mv.info.es || !mv.on_default_draw(app) {
             return false;
         }
         let Some(layout) = mv.layout() else { return false };
         let saved = raster::save(gl);
-        replay::draw_views(gl, mv, &cur.ctx.group, |i| {
+        replay::draw_views(gl, app, mv, &cur.ctx.group, |i| {
             if i != replay::SINGLE {
                 raster::place(gl, &saved, &layout, i);
             }
@@ -73,6 +74,7 @@ pub fn glCopyPixels(
 }
 
 pub fn glRenderMode(real: impl Fn(GLenum) -> GLint, mode: GLenum) -> GLint {
-    with_active(|_, mv, _| mv.selecting = mode != crate::gl::RENDER);
+    crate::state::with_app(|app| app.selecting = mode != crate::gl::RENDER);
+
     real(mode)
 }

@@ -3,12 +3,13 @@
 //! deletion) or needs mirroring (mipmaps).
 
 use crate::gl::types::*;
+use crate::hook::layer::with_active;
 use crate::multiview::layers::forget;
-use crate::multiview::with_active;
 use core::ffi::c_void;
 
 pub fn glActiveTexture(real: impl Fn(GLenum), texture: GLenum) {
-    with_active(|_, mv, _| mv.units.active = texture.wrapping_sub(crate::gl::TEXTURE0));
+    crate::state::with_app(|app| app.units.active = texture.wrapping_sub(crate::gl::TEXTURE0));
+
     real(texture)
 }
 
@@ -26,7 +27,7 @@ pub fn glBindTexture(real: impl Fn(GLenum, GLuint), target: GLenum, texture: GLu
         with_group(|g| g.textures.bound(target, texture));
     }
     if target == crate::gl::TEXTURE_2D {
-        with_active(|_, mv, _| mv.units.bind(mv.units.active, texture));
+        crate::state::with_app(|app| app.units.bind(app.units.active, texture));
     }
     real(target, texture)
 }
@@ -42,7 +43,7 @@ pub fn glCreateTextures(
 }
 
 pub fn glBindTextureUnit(real: impl Fn(GLuint, GLuint), unit: GLuint, texture: GLuint) {
-    with_active(|_, mv, _| mv.units.bind(unit, texture));
+    crate::state::with_app(|app| app.units.bind(unit, texture));
     real(unit, texture)
 }
 
@@ -52,7 +53,7 @@ pub fn glBindTextures(
     count: GLsizei,
     textures: *const GLuint,
 ) {
-    with_active(|_, mv, _| {
+    crate::state::with_app(|app| {
         for i in 0..count.max(0) as u32 {
             // SAFETY: the app passes `count` names, or NULL to unbind them all.
             let t = if textures.is_null() {
@@ -60,7 +61,7 @@ pub fn glBindTextures(
             } else {
                 unsafe { *textures.add(i as usize) }
             };
-            mv.units.bind(first + i, t);
+            app.units.bind(first + i, t);
         }
     });
     real(first, count, textures)
@@ -68,8 +69,8 @@ pub fn glBindTextures(
 
 pub fn glGenerateMipmap(real: impl Fn(GLenum), target: GLenum) {
     real(target);
-    with_active(|_, mv, gl| {
-        let tex = mv.units.bound_2d.get(mv.units.active as usize).copied().unwrap_or(0);
+    with_active(|_, app, mv, gl| {
+        let tex = app.units.bound_2d.get(app.units.active as usize).copied().unwrap_or(0);
         if target == crate::gl::TEXTURE_2D && tex != 0 {
             mv.shadows.values().for_each(|s| s.generate_mipmaps(gl, tex));
         }
@@ -82,7 +83,7 @@ fn bound(gl: &crate::gl::Gl, binding: GLenum) -> u32 {
 }
 
 fn storage_changed(renderbuffer: bool, binding: GLenum) {
-    with_active(|_, mv, gl| {
+    with_active(|_, _, mv, gl| {
         let name = bound(gl, binding);
         forget(gl, mv, |_, s| s.owns(name, renderbuffer));
     });
@@ -148,11 +149,11 @@ pub fn glRenderbufferStorageMultisample(
 /// on demand, unless the same object is attached again (some renderers re-attach every frame;
 /// rebuilding N layers each time would cost far more than the draw).
 fn reattached(target: GLenum, attachment: GLenum, name: u32, renderbuffer: bool) {
-    with_active(|_, mv, gl| {
+    with_active(|_, app, mv, gl| {
         let fbo = if target == crate::gl::READ_FRAMEBUFFER {
-            mv.app.read_fbo
+            app.read_fbo
         } else {
-            mv.app.draw_fbo
+            app.draw_fbo
         };
         mv.has_color.remove(&fbo);
         let same = mv
@@ -209,7 +210,7 @@ fn names<'a>(n: GLsizei, p: *const GLuint) -> &'a [GLuint] {
 }
 
 pub fn glDeleteFramebuffers(real: impl Fn(GLsizei, *const GLuint), n: GLsizei, fbos: *const GLuint) {
-    with_active(|_, mv, gl| {
+    with_active(|_, _, mv, gl| {
         let gone = names(n, fbos);
         gone.iter().for_each(|f| {
             mv.unshadowable.remove(f);
@@ -222,10 +223,10 @@ pub fn glDeleteFramebuffers(real: impl Fn(GLsizei, *const GLuint), n: GLsizei, f
 
 pub fn glDeleteTextures(real: impl Fn(GLsizei, *const GLuint), n: GLsizei, textures: *const GLuint) {
     with_group(|g| g.textures.deleted(names(n, textures)));
-    with_active(|_, mv, gl| {
+    with_active(|_, app, mv, gl| {
         let gone = names(n, textures);
         forget(gl, mv, |_, s| gone.iter().any(|&t| s.owns(t, false)));
-        mv.units
+        app.units
             .bound_2d
             .iter_mut()
             .filter(|t| gone.contains(t))
@@ -235,54 +236,9 @@ pub fn glDeleteTextures(real: impl Fn(GLsizei, *const GLuint), n: GLsizei, textu
 }
 
 pub fn glDeleteRenderbuffers(real: impl Fn(GLsizei, *const GLuint), n: GLsizei, rbs: *const GLuint) {
-    with_active(|_, mv, gl| {
+    with_active(|_, _, mv, gl| {
         let gone = names(n, rbs);
         forget(gl, mv, |_, s| gone.iter().any(|&r| s.owns(r, true)));
     });
     real(n, rbs)
-}
-
-// EXT_framebuffer_object spellings: identical semantics.
-
-pub fn glGenerateMipmapEXT(real: impl Fn(GLenum), target: GLenum) {
-    glGenerateMipmap(real, target)
-}
-
-pub fn glFramebufferTexture2DEXT(
-    real: impl Fn(GLenum, GLenum, GLenum, GLuint, GLint),
-    target: GLenum,
-    att: GLenum,
-    textarget: GLenum,
-    tex: GLuint,
-    level: GLint,
-) {
-    glFramebufferTexture2D(real, target, att, textarget, tex, level)
-}
-
-pub fn glFramebufferRenderbufferEXT(
-    real: impl Fn(GLenum, GLenum, GLenum, GLuint),
-    target: GLenum,
-    att: GLenum,
-    rbt: GLenum,
-    rb: GLuint,
-) {
-    glFramebufferRenderbuffer(real, target, att, rbt, rb)
-}
-
-pub fn glRenderbufferStorageEXT(
-    real: impl Fn(GLenum, GLenum, GLsizei, GLsizei),
-    target: GLenum,
-    format: GLenum,
-    w: GLsizei,
-    h: GLsizei,
-) {
-    glRenderbufferStorage(real, target, format, w, h)
-}
-
-pub fn glDeleteFramebuffersEXT(real: impl Fn(GLsizei, *const GLuint), n: GLsizei, fbos: *const GLuint) {
-    glDeleteFramebuffers(real, n, fbos)
-}
-
-pub fn glDeleteRenderbuffersEXT(real: impl Fn(GLsizei, *const GLuint), n: GLsizei, rbs: *const GLuint) {
-    glDeleteRenderbuffers(real, n, rbs)
 }

@@ -1,4 +1,7 @@
-//! Lookup of the real entry points behind our hooks.
+//! Finding the real functions behind our hooks: `dlsym`/`dlvsym`, the GL libraries already
+//! loaded, and the platforms' `*GetProcAddress`. No state beyond caches of addresses, and no
+//! knowledge of contexts: per-context GL lookups are `state::real_gl`, which calls
+//! [`via_loader`] with the loader of the context's platform.
 //!
 //! Order (after apitrace's `glproc_gl.cpp`): the cache; `dlsym(RTLD_NEXT)`; the GL libraries
 //! already loaded, by soname with `RTLD_NOLOAD` (an app may have opened them `RTLD_LOCAL`,
@@ -7,9 +10,54 @@
 //! through the loader of the platform that made it current, because an OSMesa context and a
 //! libGL one in the same process have different `glFinish`es.
 
-use super::{HOOK_COUNT, HOOKS, HookApi, dl, id};
+pub mod dl;
+
 use core::ffi::{CStr, c_char, c_void};
 use std::sync::atomic::{AtomicPtr, Ordering};
+
+#[allow(clippy::all)]
+mod names {
+    include!(concat!(env!("OUT_DIR"), "/names.rs"));
+}
+pub use names::{HOOK_COUNT, HOOKS, id};
+
+/// The API an entry point belongs to (decides which loader finds it).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum HookApi {
+    Gl,
+    Glx,
+    Egl,
+    Osmesa,
+}
+
+/// What the layer does with an entry point (`src/hook/policy.txt`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Policy {
+    Track,
+    Frame,
+    Proc,
+    /// Replayed per view by the generated handler.
+    View,
+    /// Replayed per view by a handler of its own (`view+`).
+    ViewOwn,
+}
+
+/// One entry point of the policy table.
+pub struct HookEntry {
+    pub name: &'static CStr,
+    pub api: HookApi,
+    pub policy: Policy,
+}
+
+/// Finds an entry point by C name without allocating (this runs inside `dlsym`).
+pub fn find(name: &CStr) -> Option<usize> {
+    let bytes = name.to_bytes();
+    let first = *bytes.first()?;
+    if first != b'g' && first != b'e' && first != b'O' {
+        return None;
+    }
+    HOOKS.binary_search_by(|h| h.name.to_bytes().cmp(bytes)).ok()
+}
 
 const SONAMES: &[&CStr] = &[
     c"libGL.so.1",
@@ -35,11 +83,6 @@ pub fn global(id: usize) -> *const c_void {
     let found = lookup(id);
     remember(id, found);
     found
-}
-
-/// The real GL function behind hook `id` for the calling thread's current context.
-pub fn gl(id: usize) -> *const c_void {
-    crate::state::current_real(id).unwrap_or_else(|| global(id))
 }
 
 /// Records a real address found by the app's own lookup (first one wins).

@@ -1,8 +1,8 @@
 //! The size of the surface a context presents, asked of its platform (the app's viewport
 //! says nothing reliable about it).
 
-use crate::hook::{HookApi, real};
-use crate::state::{Current, Platform};
+use super::{Current, Platform};
+use crate::real::{self, HookApi};
 use core::ffi::c_void;
 use std::sync::atomic::{AtomicPtr, Ordering};
 
