@@ -88,7 +88,7 @@ fn parse_line(line_no: usize, line: &str, regs: &[(&str, &Registry)]) -> Option<
     let (policy, rest) = line.split_once(char::is_whitespace).expect("policy.txt: missing name");
     let policy = policy.to_string();
     assert!(
-        ["track", "frame", "proc", "view", "view+"].contains(&policy.as_str()),
+        ["track", "frame", "proc", "view", "view+", "matrix"].contains(&policy.as_str()),
         "policy.txt:{line_no}: unknown policy `{policy}`"
     );
     let (rest, alias_of) = match rest.split_once('=') {
@@ -110,8 +110,8 @@ fn parse_line(line_no: usize, line: &str, regs: &[(&str, &Registry)]) -> Option<
         }
     };
     assert!(
-        policy != "view" || ret == "()",
-        "policy.txt:{line_no}: `{name}` returns {ret}; a generated per-view replay returns nothing"
+        !["view", "matrix"].contains(&policy.as_str()) || ret == "()",
+        "policy.txt:{line_no}: `{name}` returns {ret}; a generated handler returns nothing"
     );
     Some(Entry {
         policy,
@@ -268,6 +268,18 @@ fn handler_call(e: &Entry, args: &str) -> String {
     if e.policy == "view" {
         return format!("crate::hook::handlers::gl::per_view(|| {body})");
     }
+    if e.policy == "matrix" {
+        // The EXT_direct_state_access spellings name the matrix; the others act on the
+        // current matrix mode.
+        let mode = if e.params.first().is_some_and(|(n, _)| n == "mode") {
+            "Some(mode)"
+        } else {
+            "None"
+        };
+        return format!(
+            "{{\n                let v = {body};\n                crate::hook::handlers::gl::matrix_changed({mode});\n                v\n            }}"
+        );
+    }
     let real = format!("|{args}| {body}");
     let name = e.alias_of.as_deref().unwrap_or(&e.name);
     let sep = if args.is_empty() { "" } else { ",\n                " };
@@ -280,6 +292,7 @@ fn handler_call(e: &Entry, args: &str) -> String {
 fn handler_doc(e: &Entry) -> String {
     match (&e.alias_of, e.policy.as_str()) {
         (_, "view") => "crate::hook::handlers::gl::per_view".to_string(),
+        (_, "matrix") => "crate::hook::handlers::gl::matrix_changed".to_string(),
         (Some(t), _) => format!("crate::hook::handlers::{}::{t}", e.api),
         (None, _) => format!("crate::hook::handlers::{}::{}", e.api, e.name),
     }

@@ -31,6 +31,7 @@ pub struct StateGuard<'a> {
 }
 
 pub fn get_i(gl: &Gl, pname: GLenum) -> i32 {
+    crate::log::costs::gl_query();
     let mut v = 0;
     // SAFETY: single-value query into a local.
     unsafe { gl.GetIntegerv(pname, &mut v) };
@@ -38,6 +39,7 @@ pub fn get_i(gl: &Gl, pname: GLenum) -> i32 {
 }
 
 pub fn get_i4(gl: &Gl, pname: GLenum) -> [i32; 4] {
+    crate::log::costs::gl_query();
     let mut v = [0; 4];
     // SAFETY: four-value query into a local array.
     unsafe { gl.GetIntegerv(pname, v.as_mut_ptr()) };

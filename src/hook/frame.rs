@@ -67,7 +67,7 @@ fn multiview_frame(frame: u64, surface: usize, settings: &Settings) {
 }
 
 fn exit_after(frame: u64) -> ! {
-    if let Some(line) = timing::summary() {
+    for line in [timing::summary(), log::costs::summary()].into_iter().flatten() {
         log::info(format_args!("{line}"));
     }
     log::info(format_args!(

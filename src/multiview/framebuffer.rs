@@ -189,7 +189,7 @@ fn clear_layers(gl: &Gl, app: &AppState, mv: &Multiview, f: &impl Fn()) -> bool 
     let Some(shadow) = mv.shadows.get(&app.draw_fbo).filter(|_| app.draw_fbo != 0) else {
         return false;
     };
-    for &view in &shadow.views {
+    for &view in shadow.views.iter() {
         // SAFETY: our view framebuffer; the app's binding is restored below.
         unsafe { gl.BindFramebuffer(DRAW_FRAMEBUFFER, view) };
         f();
@@ -200,16 +200,14 @@ fn clear_layers(gl: &Gl, app: &AppState, mv: &Multiview, f: &impl Fn()) -> bool 
 
 /// Clears every tile (or the app's scissored part of each) while framebuffer 0 is bound, and
 /// every layer of a shadowed framebuffer.
-pub fn clear(gl: &Gl, app: &AppState, mv: &Multiview, f: impl Fn()) {
+pub fn clear(gl: &Gl, app: &mut AppState, mv: &Multiview, f: impl Fn()) {
     if clear_layers(gl, app, mv, &f) {
         return;
     }
     let Some(layout) = mv.layout().filter(|_| mv.on_default_draw(app)) else {
         return f();
     };
-    // SAFETY: querying and restoring the scissor test around our per-tile clears.
-    let scissored = unsafe { gl.IsEnabled(SCISSOR_TEST) } != 0;
-    if !scissored {
+    if !app.enabled(gl, SCISSOR_TEST) {
         return f();
     }
     for i in 0..layout.views() {

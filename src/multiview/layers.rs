@@ -4,21 +4,22 @@ use super::Multiview;
 use super::shadow::{self, ShadowFbo};
 use crate::gl::*;
 use crate::state::AppState;
+use std::sync::Arc;
 
 /// Units whose bound texture has layer views: (unit, app texture, views).
-pub type Substitutions = Vec<(u32, u32, Vec<u32>)>;
+pub type Substitutions = Vec<(u32, u32, Arc<[u32]>)>;
 
-pub fn substitutions(app: &AppState, mv: &Multiview) -> Substitutions {
+/// Fills `subs` (emptied first; a vector kept from draw to draw, so that no draw allocates).
+pub fn substitutions(app: &AppState, mv: &Multiview, subs: &mut Substitutions) {
+    subs.clear();
     if mv.shadows.is_empty() {
-        return Vec::new();
+        return;
     }
-    let mut subs = Vec::new();
     for (unit, &tex) in app.units.bound_2d.iter().enumerate().filter(|(_, t)| **t != 0) {
         if let Some(views) = mv.shadows.values().find_map(|s| s.layer_views_of(tex)) {
-            subs.push((unit as u32, tex, views.to_vec()));
+            subs.push((unit as u32, tex, views.clone()));
         }
     }
-    subs
 }
 
 /// Binds view `i`'s layers (`None`: the app's own textures back) on the substituted units.
@@ -28,9 +29,9 @@ pub fn bind_layers(gl: &Gl, app: &AppState, subs: &Substitutions, i: Option<usiz
     }
     // SAFETY: texture bindings of this context; the app's active unit is put back.
     unsafe {
-        for (unit, app, views) in subs {
+        for (unit, texture, views) in subs {
             gl.ActiveTexture(TEXTURE0 + unit);
-            gl.BindTexture(TEXTURE_2D, i.map_or(*app, |i| views[i.min(views.len() - 1)]));
+            gl.BindTexture(TEXTURE_2D, i.map_or(*texture, |i| views[i.min(views.len() - 1)]));
         }
         gl.ActiveTexture(TEXTURE0 + app.units.active);
     }
@@ -72,7 +73,7 @@ pub fn target_views(
     fbo: u32,
     camera_draw: bool,
     subs: &Substitutions,
-) -> Option<Vec<u32>> {
+) -> Option<Arc<[u32]>> {
     if let Some(s) = mv.shadows.get(&fbo) {
         return Some(s.views.clone());
     }
@@ -91,7 +92,7 @@ pub fn target_views(
 }
 
 /// Creates the shadow of `fbo` (logged once, with the reason).
-pub fn ensure_shadow(gl: &Gl, mv: &mut Multiview, fbo: u32, why: &str) -> Option<Vec<u32>> {
+pub fn ensure_shadow(gl: &Gl, mv: &mut Multiview, fbo: u32, why: &str) -> Option<Arc<[u32]>> {
     if let Some(s) = mv.shadows.get(&fbo) {
         return Some(s.views.clone());
     }

@@ -9,6 +9,7 @@
 use crate::gl::*;
 use crate::shader::{self, Stage};
 use crate::state::ShareGroup;
+use crate::state::share::ProgramInfo;
 use std::ffi::CString;
 
 fn shader_iv(gl: &Gl, shader: u32, pname: GLenum) -> i32 {
@@ -195,18 +196,19 @@ fn record(gl: &Gl, group: &ShareGroup, program: u32, analysis: &shader::Analysis
         "program {program}: {:?}, view uniform at {view_loc}, matrices {:?}",
         analysis.position_kind, analysis.matrix_uniforms
     ));
-    let mut info = super::replay::program_info(
+    let mut info = ProgramInfo {
         view_loc,
         projection_loc,
-        builtin,
         projection_ubo,
-        analysis.position_kind == shader::PositionKind::Identity,
+        builtin_projection: builtin,
+        identity: analysis.position_kind == shader::PositionKind::Identity,
         fragcoord_loc,
-    );
+        ..Default::default()
+    };
     if view_loc >= 0 || fragcoord_loc >= 0 {
         info.hidden_uniforms = own_uniform_indices(gl, program);
     }
-    group.lock().programs.insert(program, info);
+    group.linked(program, info);
 }
 
 /// Active-uniform indices of our uniforms in a linked program (found by name, which works from

@@ -26,6 +26,7 @@ pub mod raster;
 pub mod replay;
 pub mod screen_space;
 pub mod shadow;
+pub mod shift;
 pub mod target;
 pub mod ubo;
 
@@ -56,6 +57,12 @@ pub struct Multiview {
     pub has_color: HashMap<u32, bool>,
     /// Framebuffers already logged as drawn once (not view-dependent).
     pub drawn_once: HashSet<u32>,
+    /// Kept from draw to draw so that replays do not allocate.
+    pub substitutions: layers::Substitutions,
+    pub camera_uniforms: Vec<screen_space::CameraUniform>,
+    /// Per-view shears of the fixed-function projection and of the camera projection.
+    pub sheared: shift::ShearedProjections,
+    pub sheared_camera: shift::ShearedProjections,
 }
 
 impl Multiview {
@@ -75,6 +82,10 @@ impl Multiview {
             unshadowable: Default::default(),
             drawn_once: Default::default(),
             has_color: Default::default(),
+            substitutions: Vec::new(),
+            camera_uniforms: Vec::new(),
+            sheared: Default::default(),
+            sheared_camera: Default::default(),
         }
     }
 
@@ -102,7 +113,7 @@ impl Multiview {
         }
         for a in self.shadows.values().flat_map(|s| &s.attachments) {
             o.textures.push(a.array);
-            o.textures.extend(&a.layer_views);
+            o.textures.extend(a.layer_views.iter());
         }
         o.lists.push(self.immediate_list);
         o.without_zeros()

@@ -7,7 +7,6 @@
 use super::Multiview;
 use crate::gl::*;
 use crate::state::AppState;
-use crate::state::ShareGroup;
 
 /// A uniform of the current program that holds the camera projection (or its inverse).
 #[derive(Clone, Copy, Debug)]
@@ -22,29 +21,25 @@ fn close(a: &[f32; 16], b: &[f64; 16]) -> bool {
     a.iter().zip(b).all(|(x, y)| (*x as f64 - y).abs() <= 1e-5 * scale)
 }
 
-/// The camera-projection uniforms of the current program, when it is a screen-space pass.
-pub fn camera_uniforms(app: &AppState, mv: &Multiview, group: &ShareGroup, identity: bool) -> Vec<CameraUniform> {
-    let Some(p) = mv.camera.camera_projection.filter(|_| identity && app.program != 0) else {
-        return Vec::new();
-    };
+/// Fills `out` (emptied first; kept from draw to draw) with the camera-projection uniforms
+/// of the current program, when it is a screen-space pass.
+pub fn camera_uniforms(app: &AppState, mv: &Multiview, identity: bool, out: &mut Vec<CameraUniform>) {
+    out.clear();
+    let snapshot = &app.current;
+    if !identity || app.program == 0 || snapshot.program != app.program || snapshot.matrices.is_empty() {
+        return;
+    }
+    let Some(p) = mv.camera.camera_projection else { return };
     let p64 = p.map(f64::from);
-    let Some(inv) = crate::camera::invert(&p64) else {
-        return Vec::new();
-    };
-    let state = group.lock();
-    state
-        .matrices
-        .iter()
-        .filter(|((prog, _), _)| *prog == app.program)
-        .filter_map(|(&(_, loc), m)| {
-            let inverse = close(m, &inv);
-            (inverse || close(m, &p64)).then_some(CameraUniform {
-                loc,
-                inverse,
-                original: *m,
-            })
+    let Some(inv) = crate::camera::invert(&p64) else { return };
+    out.extend(snapshot.matrices.iter().filter_map(|&(loc, m)| {
+        let inverse = close(&m, &inv);
+        (inverse || close(&m, &p64)).then_some(CameraUniform {
+            loc,
+            inverse,
+            original: m,
         })
-        .collect()
+    }));
 }
 
 /// Uploads view `i`'s sheared projection (or its inverse); `None`: the app's values back.
@@ -54,13 +49,11 @@ pub fn set(gl: &Gl, app: &AppState, mv: &Multiview, uniforms: &[CameraUniform], 
         let value = match i {
             None => u.original,
             Some(i) => {
-                let sheared = mv.camera.rig.shear(i, &p.map(f64::from));
-                let m = if u.inverse {
-                    crate::camera::invert(&sheared).unwrap_or(sheared)
+                if u.inverse {
+                    mv.sheared_camera.inverse(&mv.camera.rig, &p, i)
                 } else {
-                    sheared
-                };
-                m.map(|v| v as f32)
+                    mv.sheared_camera.get(&mv.camera.rig, &p, i)
+                }
             }
         };
         // SAFETY: a uniform of the current program, through the real entry point (so our

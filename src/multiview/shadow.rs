@@ -14,6 +14,7 @@
 
 use crate::gl::GlInfo;
 use crate::gl::*;
+use std::sync::Arc;
 
 pub struct ShadowAttachment {
     pub point: GLenum,
@@ -21,12 +22,14 @@ pub struct ShadowAttachment {
     pub app_name: u32,
     pub renderbuffer: bool,
     pub array: u32,
-    /// Per-layer `GL_TEXTURE_2D` views for sampling (single-sample textures only).
-    pub layer_views: Vec<u32>,
+    /// Per-layer `GL_TEXTURE_2D` views for sampling (single-sample textures only); shared
+    /// with the draws that substitute them, without copying.
+    pub layer_views: Arc<[u32]>,
 }
 
 pub struct ShadowFbo {
-    pub views: Vec<u32>,
+    /// One framebuffer per view (layer i of every attachment), shared with the replays.
+    pub views: Arc<[u32]>,
     pub attachments: Vec<ShadowAttachment>,
     pub size: (i32, i32),
 }
@@ -207,9 +210,9 @@ fn shadow_attachment(
         }
     }
     let views = if renderbuffer || multisample {
-        Vec::new()
+        Arc::from([])
     } else {
-        layer_views(gl, name, array, format, levels, n)
+        Arc::from(layer_views(gl, name, array, format, levels, n))
     };
     Ok((
         ShadowAttachment {
@@ -248,7 +251,7 @@ impl ShadowFbo {
         target_of: impl Fn(u32) -> GLenum,
     ) -> Result<ShadowFbo, String> {
         let mut shadow = ShadowFbo {
-            views: Vec::new(),
+            views: Arc::from([]),
             attachments: Vec::new(),
             size: (0, 0),
         };
@@ -271,8 +274,9 @@ impl ShadowFbo {
         let (buffers, read) = self::buffers(gl, info, fbo);
         // SAFETY: our own framebuffers, one per view, with layer i of each array attached.
         unsafe {
-            shadow.views = vec![0; n as usize];
-            gl.CreateFramebuffers(n as i32, shadow.views.as_mut_ptr());
+            let mut views = vec![0; n as usize];
+            gl.CreateFramebuffers(n as i32, views.as_mut_ptr());
+            shadow.views = Arc::from(views);
             for (i, &view) in shadow.views.iter().enumerate() {
                 for a in &shadow.attachments {
                     gl.NamedFramebufferTextureLayer(view, a.point, a.array, 0, i as i32);
@@ -314,7 +318,7 @@ impl ShadowFbo {
         // test, so it is off meanwhile); selections and the scissor test restored.
         unsafe {
             gl.Disable(SCISSOR_TEST);
-            for &view in &self.views {
+            for &view in self.views.iter() {
                 for &p in &colors {
                     gl.NamedFramebufferReadBuffer(fbo, p);
                     gl.NamedFramebufferDrawBuffer(view, p);
@@ -378,11 +382,11 @@ impl ShadowFbo {
     }
 
     /// Does this shadow stand in for texture `name` (for sampling)?
-    pub fn layer_views_of(&self, name: u32) -> Option<&[u32]> {
+    pub fn layer_views_of(&self, name: u32) -> Option<&Arc<[u32]>> {
         self.attachments
             .iter()
             .find(|a| !a.renderbuffer && a.app_name == name && !a.layer_views.is_empty())
-            .map(|a| a.layer_views.as_slice())
+            .map(|a| &a.layer_views)
     }
 
     /// What is attached at `point` (depth and stencil both match a depth-stencil attachment).

@@ -40,6 +40,8 @@ pub enum Policy {
     View,
     /// Replayed per view by a handler of its own (`view+`).
     ViewOwn,
+    /// May change the shadowed fixed-function projection (generated handler).
+    Matrix,
 }
 
 /// One entry point of the policy table.

@@ -6,7 +6,9 @@
 //! app's `glGet*` queries with it. It is tracked from the first make-current on, so that
 //! multiview can also be turned on later in a context's life.
 
+use super::program::ProgramSnapshot;
 use crate::gl::{BACK, GLenum, Gl, GlInfo};
+use std::collections::HashSet;
 
 /// Texture bindings of `GL_TEXTURE_2D` per unit, as the app made them.
 #[derive(Clone, Debug, Default)]
@@ -45,6 +47,22 @@ pub struct AppState {
     pub transform_feedback: bool,
     /// `glRenderMode` is GL_SELECT or GL_FEEDBACK: picking must see each draw once.
     pub selecting: bool,
+    /// The two capabilities every replay asks about, shadowed from `glEnable`/`glDisable`;
+    /// None: unknown (after `glPopAttrib` or a display list), asked of GL at the next draw.
+    pub scissor_test: Option<bool>,
+    pub rasterizer_discard: Option<bool>,
+    /// The fixed-function matrix mode and projection, shadowed from the matrix calls; None:
+    /// unknown until the next fixed-function draw asks GL.
+    pub matrix_mode: Option<GLenum>,
+    pub projection: Option<[f32; 16]>,
+    /// What the layer knows of the current program (not app-visible: see `program`).
+    pub current: ProgramSnapshot,
+    /// The display list being compiled: its name, mode, and whether it holds a call that
+    /// changes shadowed state.
+    pub list: Option<(u32, GLenum, bool)>,
+    /// Lists compiled in this context that change no shadowed state: calling them keeps the
+    /// shadows (any other list makes them unknown).
+    pub plain_lists: HashSet<u32>,
 }
 
 impl AppState {
@@ -71,6 +89,109 @@ impl AppState {
             compiling_list: false,
             transform_feedback: false,
             selecting: false,
+            scissor_test: None,
+            rasterizer_discard: None,
+            matrix_mode: None,
+            projection: None,
+            current: ProgramSnapshot::default(),
+            list: None,
+            plain_lists: HashSet::new(),
         }
     }
+
+    /// A call that changes shadowed state: applied by `apply` unless it is only being
+    /// compiled into a display list (`GL_COMPILE`), and noted against the list.
+    pub fn shadowed_call(&mut self, apply: impl FnOnce(&mut AppState)) {
+        if let Some((_, mode, touches)) = &mut self.list {
+            *touches = true;
+            if *mode == crate::gl::COMPILE {
+                return;
+            }
+        }
+        apply(self)
+    }
+
+    /// `glNewList(name, mode)`.
+    pub fn list_begun(&mut self, name: u32, mode: GLenum) {
+        self.compiling_list = true;
+        self.list = Some((name, mode, false));
+    }
+
+    /// `glEndList()`.
+    pub fn list_ended(&mut self) {
+        self.compiling_list = false;
+        if let Some((name, _, touches)) = self.list.take() {
+            if touches {
+                self.plain_lists.remove(&name);
+            } else {
+                self.plain_lists.insert(name);
+            }
+        }
+    }
+
+    /// `glCallList(name)` just ran.
+    pub fn list_called(&mut self, name: u32) {
+        if !self.plain_lists.contains(&name) {
+            self.shadowed_call(AppState::forget_shadowed);
+        }
+    }
+
+    /// `glIsEnabled(cap)` for the shadowed caps, asked of GL only when unknown.
+    pub fn enabled(&mut self, gl: &Gl, cap: GLenum) -> bool {
+        let slot = match cap {
+            crate::gl::SCISSOR_TEST => &mut self.scissor_test,
+            crate::gl::RASTERIZER_DISCARD => &mut self.rasterizer_discard,
+            _ => return is_enabled(gl, cap),
+        };
+        *slot.get_or_insert_with(|| is_enabled(gl, cap))
+    }
+
+    /// `glEnable`/`glDisable` of `cap` by the app.
+    pub fn set_enabled(&mut self, cap: GLenum, on: bool) {
+        match cap {
+            crate::gl::SCISSOR_TEST => self.scissor_test = Some(on),
+            crate::gl::RASTERIZER_DISCARD => self.rasterizer_discard = Some(on),
+            _ => {}
+        }
+    }
+
+    /// The app's `GL_MATRIX_MODE`, asked of GL only when unknown.
+    pub fn matrix_mode(&mut self, gl: &Gl) -> GLenum {
+        *self
+            .matrix_mode
+            .get_or_insert_with(|| crate::gl::guard::get_i(gl, crate::gl::MATRIX_MODE) as GLenum)
+    }
+
+    /// The fixed-function projection matrix, asked of GL only when unknown.
+    pub fn fixed_projection(&mut self, gl: &Gl) -> [f32; 16] {
+        *self.projection.get_or_insert_with(|| {
+            crate::log::costs::gl_query();
+            let mut p = [0f32; 16];
+            // SAFETY: a 16-float query into a local array (compatibility contexts).
+            unsafe { gl.GetFloatv(crate::gl::PROJECTION_MATRIX, p.as_mut_ptr()) };
+            p
+        })
+    }
+
+    /// A matrix call in mode `mode` (None: the current one): the projection may have changed.
+    pub fn matrix_changed(&mut self, mode: Option<GLenum>) {
+        if mode.or(self.matrix_mode).is_none_or(|m| m == crate::gl::PROJECTION) {
+            self.projection = None;
+        }
+    }
+
+    /// Something restored or replayed state the layer did not see call by call (`glPopAttrib`,
+    /// a display list): ask GL again.
+    pub fn forget_shadowed(&mut self) {
+        self.scissor_test = None;
+        self.rasterizer_discard = None;
+        self.matrix_mode = None;
+        self.projection = None;
+    }
+}
+
+fn is_enabled(gl: &Gl, cap: GLenum) -> bool {
+    crate::log::costs::gl_query();
+    // SAFETY: an enable query of a capability valid in the contexts the layer replays in.
+    unsafe { gl.IsEnabled(cap) != 0 }
 }

@@ -9,6 +9,7 @@
 pub mod app;
 mod context;
 pub mod orphans;
+pub mod program;
 pub mod share;
 mod surface;
 pub mod textures;

@@ -6,8 +6,8 @@
 use super::orphans::LayerObjects;
 use super::textures::TextureTargets;
 use std::collections::HashMap;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Mutex, MutexGuard};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard};
 
 /// Where a `mat4` uniform-block member lives (a projection uploaded through a buffer).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -17,8 +17,10 @@ pub struct UboMember {
     pub row_major: bool,
 }
 
-/// What the layer knows about one linked program.
-#[derive(Clone, Debug, Default)]
+/// What the layer knows about one linked program: facts fixed at link time, shared read-only
+/// (contexts keep an `Arc` of the current program's, see `state::program`), and whether its
+/// view uniform holds the centre view, which draws in any context of the group update.
+#[derive(Debug, Default)]
 pub struct ProgramInfo {
     /// Location of `holoinject_view`, or -1 when the program was left untouched.
     pub view_loc: i32,
@@ -28,7 +30,6 @@ pub struct ProgramInfo {
     /// Otherwise, the uniform-block member holding it, and its value as last read (with the
     /// buffer generation it was read at).
     pub projection_ubo: Option<UboMember>,
-    pub ubo_cache: Option<(u64, [f32; 16])>,
     /// gl_Position comes from the compatibility built-ins (`ftransform`, `gl_ModelView…`).
     pub builtin_projection: bool,
     /// Location of `holoinject_fragcoord` in the fragment shader, or -1.
@@ -36,7 +37,7 @@ pub struct ProgramInfo {
     /// gl_Position is given directly (full-screen passes, NDC quads): not the main camera.
     pub identity: bool,
     /// The view uniform holds the centre view's values (so single draws need no update).
-    pub centre_set: bool,
+    pub centre_set: AtomicBool,
     /// Active-uniform indices of our own uniforms, ascending: hidden from the app's
     /// introspection, whose indices are renumbered around them.
     pub hidden_uniforms: Vec<u32>,
@@ -44,7 +45,7 @@ pub struct ProgramInfo {
 
 #[derive(Default)]
 pub struct GroupState {
-    pub programs: HashMap<u32, ProgramInfo>,
+    pub programs: HashMap<u32, Arc<ProgramInfo>>,
     /// App sources of shader objects whose source we replaced (for glGetShaderSource).
     pub original_sources: HashMap<u32, String>,
     /// Last value uploaded to each (program, location) mat4 uniform, column-major.
@@ -60,6 +61,10 @@ pub struct ShareGroup {
     orphans: Mutex<LayerObjects>,
     /// `orphans` is not empty (checked without locking at every make-current and swap).
     has_orphans: AtomicBool,
+    /// Bumped by every change to `programs` and every write to `matrices`: a context's
+    /// snapshot of its current program is good while these are what it last saw.
+    pub links: AtomicU64,
+    pub uploads: AtomicU64,
 }
 
 impl ShareGroup {
@@ -72,7 +77,20 @@ impl ShareGroup {
     }
 
     pub fn lock(&self) -> MutexGuard<'_, GroupState> {
+        crate::log::costs::group_lock();
         self.state.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// Records what a link found about `program` (replacing what an earlier link found).
+    pub fn linked(&self, program: u32, info: ProgramInfo) {
+        self.lock().programs.insert(program, Arc::new(info));
+        self.links.fetch_add(1, Ordering::AcqRel);
+    }
+
+    /// Records a `mat4` uniform upload; returns the upload generation before it.
+    pub fn uploaded(&self, program: u32, loc: i32, m: [f32; 16]) -> u64 {
+        self.lock().matrices.insert((program, loc), m);
+        self.uploads.fetch_add(1, Ordering::AcqRel)
     }
 
     /// Takes the layer objects of destroyed context `handle`, to be deleted by the next

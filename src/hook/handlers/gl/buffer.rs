@@ -1,9 +1,19 @@
 //! Buffer writes and uniform-buffer bindings: they may change a projection held in a uniform
-//! block (see `multiview::ubo`), so each one invalidates the cached read.
+//! block (see `multiview::ubo`, which decides whether a write can reach one).
 
 use crate::gl::types::*;
-use crate::multiview::ubo::buffers_changed;
+use crate::multiview::ubo;
 use core::ffi::c_void;
+
+/// A write to the buffer bound to `target`, in the current context.
+fn wrote_target(target: GLenum) {
+    if crate::config::settings().multiview() {
+        crate::state::with_current(|cur| {
+            cur.and_then(|c| c.ctx.gl())
+                .map(|(gl, _)| ubo::wrote_target(gl, target))
+        });
+    }
+}
 
 pub fn glBufferData(
     real: impl Fn(GLenum, GLsizeiptr, *const c_void, GLenum),
@@ -13,7 +23,7 @@ pub fn glBufferData(
     u: GLenum,
 ) {
     real(t, n, d, u);
-    buffers_changed();
+    wrote_target(t);
 }
 
 pub fn glBufferSubData(
@@ -24,7 +34,7 @@ pub fn glBufferSubData(
     d: *const c_void,
 ) {
     real(t, o, n, d);
-    buffers_changed();
+    wrote_target(t);
 }
 
 pub fn glNamedBufferSubData(
@@ -35,18 +45,18 @@ pub fn glNamedBufferSubData(
     d: *const c_void,
 ) {
     real(b, o, n, d);
-    buffers_changed();
+    ubo::wrote_buffer(b);
 }
 
 pub fn glUnmapBuffer(real: impl Fn(GLenum) -> GLboolean, t: GLenum) -> GLboolean {
     let r = real(t);
-    buffers_changed();
+    wrote_target(t);
     r
 }
 
 pub fn glUnmapNamedBuffer(real: impl Fn(GLuint) -> GLboolean, b: GLuint) -> GLboolean {
     let r = real(b);
-    buffers_changed();
+    ubo::wrote_buffer(b);
     r
 }
 
@@ -59,12 +69,12 @@ pub fn glCopyBufferSubData(
     n: GLsizeiptr,
 ) {
     real(r, w, ro, wo, n);
-    buffers_changed();
+    wrote_target(w);
 }
 
 pub fn glBindBufferBase(real: impl Fn(GLenum, GLuint, GLuint), t: GLenum, i: GLuint, b: GLuint) {
     real(t, i, b);
-    buffers_changed();
+    ubo::bound(t, b);
 }
 
 pub fn glBindBufferRange(
@@ -76,5 +86,5 @@ pub fn glBindBufferRange(
     n: GLsizeiptr,
 ) {
     real(t, i, b, o, n);
-    buffers_changed();
+    ubo::bound(t, b);
 }

@@ -43,7 +43,7 @@ fn draw_buffers_changed(bufs: &[GLenum]) {
         let Some(s) = mv.shadows.get(&app.draw_fbo).filter(|_| app.draw_fbo != 0) else {
             return;
         };
-        for &view in &s.views {
+        for &view in s.views.iter() {
             // SAFETY: our own view framebuffers, named (no binding change).
             unsafe { gl.NamedFramebufferDrawBuffers(view, bufs.len() as i32, bufs.as_ptr()) };
         }

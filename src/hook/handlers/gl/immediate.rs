@@ -21,13 +21,13 @@ pub fn glEnd(real: impl Fn()) {
 }
 
 pub fn glNewList(real: impl Fn(GLuint, GLenum), list: GLuint, mode: GLenum) {
-    crate::state::with_app(|app| app.compiling_list = true);
+    crate::state::with_app(|app| app.list_begun(list, mode));
     real(list, mode)
 }
 
 pub fn glEndList(real: impl Fn()) {
     real();
-    crate::state::with_app(|app| app.compiling_list = false);
+    crate::state::with_app(|app| app.list_ended());
 }
 
 pub fn glBeginTransformFeedback(real: impl Fn(GLenum), mode: GLenum) {

@@ -8,6 +8,7 @@ mod introspection;
 mod program;
 mod query;
 mod raster;
+mod shadowed;
 mod texture;
 
 pub use buffer::*;
@@ -18,6 +19,7 @@ pub use introspection::*;
 pub use program::*;
 pub use query::*;
 pub use raster::*;
+pub use shadowed::*;
 pub use texture::*;
 
 /// The handler of every `view` entry of the policy table (generated shims call it with the

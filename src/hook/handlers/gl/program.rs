@@ -17,8 +17,20 @@ pub fn glLinkProgram(real: impl Fn(GLuint), program: GLuint) {
     }
 }
 
+/// The current program, and (with multiview on) the layer's snapshot of what it knows about
+/// it, so that draws need not ask the share group (see `state::program`).
 pub fn glUseProgram(real: impl Fn(GLuint), program: GLuint) {
-    crate::state::with_app(|app| app.program = program);
+    let multiview = crate::config::settings().multiview();
+    crate::state::with_current(|cur| {
+        let cur = cur?;
+        let mut tracked = cur.ctx.tracked();
+        let app = tracked.app.as_mut()?;
+        app.program = program;
+        if multiview && program != 0 {
+            app.current.take(&cur.ctx.group, program);
+        }
+        Some(())
+    });
     real(program)
 }
 
@@ -49,12 +61,23 @@ fn column_major(value: *const GLfloat, transpose: GLboolean) -> [f32; 16] {
     m
 }
 
-fn track_matrix(program: u32, loc: GLint, count: GLsizei, transpose: GLboolean, value: *const GLfloat) {
+/// Records a `mat4` upload in the share group (for other contexts, relinks and screen-space
+/// passes) and in this context's snapshot of its current program. `program` None: the
+/// current one.
+fn track_matrix(program: Option<u32>, loc: GLint, count: GLsizei, transpose: GLboolean, value: *const GLfloat) {
     if loc < 0 || count < 1 || value.is_null() {
         return;
     }
     let m = column_major(value, transpose);
-    crate::state::with_current(|cur| cur.map(|c| c.ctx.group.lock().matrices.insert((program, loc), m)));
+    crate::state::with_current(|cur| {
+        let cur = cur?;
+        let mut tracked = cur.ctx.tracked();
+        let app = tracked.app.as_mut()?;
+        let program = program.unwrap_or(app.program);
+        let before = cur.ctx.group.uploaded(program, loc, m);
+        app.current.uploaded(program, loc, m, before);
+        Some(())
+    });
 }
 
 pub fn glUniformMatrix4fv(
@@ -65,12 +88,8 @@ pub fn glUniformMatrix4fv(
     value: *const GLfloat,
 ) {
     real(loc, count, transpose, value);
-    if let Some(program) = crate::config::settings()
-        .multiview()
-        .then(|| crate::state::with_app(|app| app.program))
-        .flatten()
-    {
-        track_matrix(program, loc, count, transpose, value);
+    if crate::config::settings().multiview() {
+        track_matrix(None, loc, count, transpose, value);
     }
 }
 
@@ -84,6 +103,6 @@ pub fn glProgramUniformMatrix4fv(
 ) {
     real(program, loc, count, transpose, value);
     if crate::config::settings().multiview() {
-        track_matrix(program, loc, count, transpose, value);
+        track_matrix(Some(program), loc, count, transpose, value);
     }
 }

@@ -3,6 +3,8 @@
 //! The level is read with `getenv` into an atomic on first use: logging can happen inside
 //! `dlsym`, before Rust's runtime helpers are safe to initialise.
 
+pub mod costs;
+
 use std::fmt::Arguments;
 use std::io::Write;
 use std::sync::atomic::{AtomicBool, AtomicU8, Ordering};

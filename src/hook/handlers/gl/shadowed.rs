@@ -1,0 +1,76 @@
+//! State the replay needs on every draw, shadowed here instead of asked of GL per draw (see
+//! `state::AppState`): the scissor and rasterizer-discard enables, the matrix mode and the
+//! fixed-function projection. Shadowed while multiview is on (the only time a draw asks).
+//! `glPopAttrib` and display lists change state without the layer seeing each call, so they
+//! make it unknown, to be asked of GL once at the next draw — except lists the layer saw
+//! compiled without such calls. Calls compiled into a list (`GL_COMPILE`) do not run, and
+//! change no shadow.
+
+use crate::gl::types::*;
+
+fn shadowing() -> bool {
+    crate::config::settings().multiview()
+}
+
+pub fn glEnable(real: impl Fn(GLenum), cap: GLenum) {
+    real(cap);
+    enabled(cap, true);
+}
+
+pub fn glDisable(real: impl Fn(GLenum), cap: GLenum) {
+    real(cap);
+    enabled(cap, false);
+}
+
+fn enabled(cap: GLenum, on: bool) {
+    if (cap == crate::gl::SCISSOR_TEST || cap == crate::gl::RASTERIZER_DISCARD) && shadowing() {
+        crate::state::with_app(|app| app.shadowed_call(|app| app.set_enabled(cap, on)));
+    }
+}
+
+pub fn glPopAttrib(real: impl Fn()) {
+    real();
+    forget_shadowed();
+}
+
+/// Something changed shadowed state without the layer seeing each call.
+fn forget_shadowed() {
+    if shadowing() {
+        crate::state::with_app(|app| app.shadowed_call(|app| app.forget_shadowed()));
+    }
+}
+
+pub fn glMatrixMode(real: impl Fn(GLenum), mode: GLenum) {
+    real(mode);
+    if shadowing() {
+        crate::state::with_app(|app| app.shadowed_call(|app| app.matrix_mode = Some(mode)));
+    }
+}
+
+/// The handler of every `matrix` entry of the policy table (generated shims call it after
+/// the real call): the projection may have changed (`mode` given by the direct-state-access
+/// spellings, else the current matrix mode).
+pub fn matrix_changed(mode: Option<GLenum>) {
+    if shadowing() {
+        crate::state::with_app(|app| app.shadowed_call(|app| app.matrix_changed(mode)));
+    }
+}
+
+/// Display lists may hold any of the calls above.
+pub fn glCallList(real: impl Fn(GLuint), list: GLuint) {
+    super::per_view(|| real(list));
+    if shadowing() {
+        crate::state::with_app(|app| app.list_called(list));
+    }
+}
+
+/// (Names relative to `glListBase`, in one of several types: taken as unknown lists.)
+pub fn glCallLists(
+    real: impl Fn(GLsizei, GLenum, *const core::ffi::c_void),
+    n: GLsizei,
+    ty: GLenum,
+    lists: *const core::ffi::c_void,
+) {
+    super::per_view(|| real(n, ty, lists));
+    forget_shadowed();
+}

@@ -1,0 +1,196 @@
+//! How a draw's views differ, decided once per draw from what the layer already knows: the
+//! current program's link-time facts and projection (`state::program`), or the shadowed
+//! fixed-function projection. Nothing here locks the share group or asks GL, except once
+//! after something the layer could not follow (a relink elsewhere, `glPopAttrib`).
+
+use super::Multiview;
+use crate::camera::projection::{self, ProjectionKind};
+use crate::gl::Gl;
+use crate::shader::ViewMode;
+use crate::state::share::UboMember;
+use crate::state::{AppState, ShareGroup};
+
+/// How a draw's views differ.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Shift {
+    /// `holoinject_view` at this location, with the shader-side projection mode (see
+    /// `glsl-patches/view_shift.glsl`); `camera`: the draw is seen through the main camera
+    /// (not a full-screen pass with positions given in NDC).
+    Uniform { loc: i32, mode: ViewMode, camera: bool },
+    /// Fixed function: the app's projection, sheared per view.
+    Projection([f32; 16]),
+    /// Nothing view-dependent (orthographic fixed function, or a program we left alone).
+    None,
+}
+
+impl Shift {
+    /// A draw that makes its target view-dependent.
+    pub fn camera(&self) -> bool {
+        match self {
+            Shift::Uniform { mode, camera, .. } => *camera && *mode != ViewMode::Orthographic,
+            Shift::Projection(_) => true,
+            Shift::None => false,
+        }
+    }
+}
+
+/// The shift of the draw about to be made with the app's current program (or fixed
+/// function).
+pub fn of(gl: &Gl, app: &mut AppState, mv: &mut Multiview, group: &ShareGroup) -> Shift {
+    let program = app.program;
+    if program == 0 {
+        if mv.info.es {
+            return Shift::None;
+        }
+        let p = app.fixed_projection(gl);
+        return match mode_of(program, Some(p), mv) {
+            m if m.is_perspective() => Shift::Projection(p),
+            _ => Shift::None,
+        };
+    }
+    let snapshot = app.current.current(group, program);
+    let Some(info) = snapshot.info.clone().filter(|p| p.view_loc >= 0) else {
+        return Shift::None;
+    };
+    let matrix = if info.builtin_projection {
+        Some(app.fixed_projection(gl))
+    } else if info.projection_loc.is_some() {
+        snapshot.projection
+    } else {
+        info.projection_ubo.and_then(|m| ubo_projection(gl, app, program, m))
+    };
+    Shift::Uniform {
+        loc: info.view_loc,
+        mode: mode_of(program, matrix, mv),
+        camera: !info.identity,
+    }
+}
+
+/// A block-held projection, read again only when a buffer that can reach a uniform binding
+/// was written since.
+fn ubo_projection(gl: &Gl, app: &mut AppState, program: u32, m: UboMember) -> Option<[f32; 16]> {
+    let generation = super::ubo::generation();
+    if let Some((_, value)) = app.current.ubo_cache.filter(|(g, _)| *g == generation) {
+        return Some(value);
+    }
+    let value = super::ubo::read(gl, program, m)?;
+    app.current.ubo_cache = Some((generation, value));
+    Some(value)
+}
+
+/// "program N" or "fixed function", formatted only when a log line is written.
+struct ProgramName(u32);
+
+impl std::fmt::Display for ProgramName {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.0 {
+            0 => f.write_str("fixed function"),
+            p => write!(f, "program {p}"),
+        }
+    }
+}
+
+/// The shader-side projection mode of `matrix`; a perspective one also updates the camera
+/// estimate (depth model, focal scale, the bare camera projection).
+fn mode_of(program: u32, matrix: Option<[f32; 16]>, mv: &mut Multiview) -> ViewMode {
+    let name = ProgramName(program);
+    let Some(p) = matrix.and_then(|m| projection::classify(&m)) else {
+        crate::log::once_for(
+            ("unknown-projection", u64::from(program)),
+            crate::log::Level::Debug,
+            format_args!("{name}: projection unknown or not finite; w == 1 vertices are left unshifted"),
+        );
+        return ViewMode::Unknown;
+    };
+    if p.kind == ProjectionKind::Orthographic {
+        return ViewMode::Orthographic;
+    }
+    let m = matrix.unwrap_or_default();
+    if m[3] == 0.0 && m[7] == 0.0 && m[15] == 0.0 && m[11] < 0.0 {
+        mv.camera.camera_projection = Some(m);
+    }
+    if let Some(d) = p.depth {
+        if mv.camera.last_depth.is_none() {
+            crate::log::info(format_args!(
+                "{name}: perspective projection, near {:.6}, far {}{}",
+                d.near(),
+                Far(d.far()),
+                if d.a > 0.0 { " (reversed-Z)" } else { "" }
+            ));
+        }
+        mv.camera.last_depth = p.depth;
+        mv.camera.last_fx = p.fx.or(mv.camera.last_fx);
+    }
+    if let Some(issue) = p.issue {
+        crate::log::once_for(
+            ("depth-issue", u64::from(program)),
+            crate::log::Level::Info,
+            format_args!(
+                "{name}: its projection has a {issue} (the shift stays exact; what cannot be \
+                 read from it comes from the last good projection)"
+            ),
+        );
+    }
+    ViewMode::of(Some(&p))
+}
+
+struct Far(f64);
+
+impl std::fmt::Display for Far {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if self.0.is_finite() {
+            write!(f, "{:.6}", self.0)
+        } else {
+            f.write_str("infinite")
+        }
+    }
+}
+
+/// The fixed-function projection of each view, computed once per projection and rig (not
+/// per draw).
+/// (Interior mutability: it is filled while replays hold the rest of `Multiview` shared.)
+#[derive(Default)]
+pub struct ShearedProjections(std::cell::RefCell<Sheared>);
+
+#[derive(Default)]
+struct Sheared {
+    source: Option<([f32; 16], [u64; 4])>,
+    /// Per view: the shear and its inverse (for passes that un-project), both made in f64.
+    views: Vec<([f32; 16], [f32; 16])>,
+}
+
+impl ShearedProjections {
+    /// View `i`'s shear of `p`.
+    pub fn get(&self, rig: &crate::camera::ViewRig, p: &[f32; 16], i: u32) -> [f32; 16] {
+        self.both(rig, p, i).0
+    }
+
+    /// The inverse of view `i`'s shear of `p` (the shear itself if it is singular).
+    pub fn inverse(&self, rig: &crate::camera::ViewRig, p: &[f32; 16], i: u32) -> [f32; 16] {
+        self.both(rig, p, i).1
+    }
+
+    fn both(&self, rig: &crate::camera::ViewRig, p: &[f32; 16], i: u32) -> ([f32; 16], [f32; 16]) {
+        let mut s = self.0.borrow_mut();
+        let key = (
+            *p,
+            [
+                rig.depthiness.to_bits(),
+                rig.convergence.to_bits(),
+                rig.focus.to_bits(),
+                u64::from(rig.views),
+            ],
+        );
+        if s.source != Some(key) {
+            let p64 = p.map(f64::from);
+            s.views.clear();
+            s.views.extend((0..rig.views).map(|v| {
+                let m = rig.shear(v, &p64);
+                let inv = crate::camera::invert(&m).unwrap_or(m);
+                (m.map(|x| x as f32), inv.map(|x| x as f32))
+            }));
+            s.source = Some(key);
+        }
+        s.views[(i as usize).min(s.views.len().saturating_sub(1))]
+    }
+}
