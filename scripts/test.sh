@@ -4,6 +4,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export ALSOFT_DRIVERS=null
+# The layering of DESIGN §2: the module graph must stay acyclic.
+scripts/module-graph.sh >/dev/null
 cargo build --workspace --release --locked
 # -noreset: Xvfb otherwise resets whenever its last client disconnects, and a GLX test
 # starting during that reset fails with "cannot open X display" (seen in CI).

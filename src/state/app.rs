@@ -195,3 +195,80 @@ fn is_enabled(gl: &Gl, cap: GLenum) -> bool {
     // SAFETY: an enable query of a capability valid in the contexts the layer replays in.
     unsafe { gl.IsEnabled(cap) != 0 }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gl::{COMPILE, COMPILE_AND_EXECUTE, MODELVIEW, PROJECTION, SCISSOR_TEST};
+
+    fn known() -> AppState {
+        AppState {
+            draw_fbo: 0,
+            read_fbo: 0,
+            viewport: [0; 4],
+            scissor: [0; 4],
+            draw_buffer: BACK,
+            read_buffer: BACK,
+            program: 0,
+            units: TextureUnits::default(),
+            compiling_list: false,
+            transform_feedback: false,
+            selecting: false,
+            scissor_test: Some(false),
+            rasterizer_discard: Some(false),
+            matrix_mode: Some(MODELVIEW),
+            projection: Some([1.0; 16]),
+            current: ProgramSnapshot::default(),
+            list: None,
+            plain_lists: HashSet::new(),
+        }
+    }
+
+    #[test]
+    fn modelview_calls_keep_the_projection_and_projection_calls_drop_it() {
+        let mut a = known();
+        a.matrix_changed(None);
+        assert!(a.projection.is_some());
+        a.matrix_changed(Some(PROJECTION));
+        assert!(a.projection.is_none());
+        a.projection = Some([1.0; 16]);
+        a.matrix_mode = None;
+        a.matrix_changed(None);
+        assert!(a.projection.is_none(), "unknown mode: the projection may have changed");
+    }
+
+    /// Regression guard: `glMatrixMode`/`glEnable` compiled into a list with GL_COMPILE do
+    /// not run, so they must not change the shadow.
+    #[test]
+    fn compiled_calls_change_no_shadow_but_mark_the_list() {
+        let mut a = known();
+        a.list_begun(7, COMPILE);
+        a.shadowed_call(|a| a.matrix_mode = Some(PROJECTION));
+        a.shadowed_call(|a| a.set_enabled(SCISSOR_TEST, true));
+        a.list_ended();
+        assert_eq!((a.matrix_mode, a.scissor_test), (Some(MODELVIEW), Some(false)));
+        a.list_called(7);
+        assert_eq!((a.matrix_mode, a.scissor_test, a.projection), (None, None, None));
+    }
+
+    #[test]
+    fn lists_without_shadowed_calls_keep_the_shadow_when_called() {
+        let mut a = known();
+        a.list_begun(8, COMPILE_AND_EXECUTE);
+        a.list_ended();
+        a.list_called(8);
+        assert_eq!(a.matrix_mode, Some(MODELVIEW));
+        a.list_called(9); // never seen compiled
+        assert_eq!(a.matrix_mode, None);
+        // Recompiled with a shadowed call: no longer plain.
+        let mut a = known();
+        a.list_begun(8, COMPILE_AND_EXECUTE);
+        a.list_ended();
+        a.list_begun(8, COMPILE_AND_EXECUTE);
+        a.shadowed_call(|a| a.set_enabled(SCISSOR_TEST, true));
+        a.list_ended();
+        assert_eq!(a.scissor_test, Some(true), "executed while compiled");
+        a.list_called(8);
+        assert_eq!(a.scissor_test, None);
+    }
+}

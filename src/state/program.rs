@@ -89,3 +89,75 @@ impl ProgramSnapshot {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::state::share::ProgramInfo;
+
+    fn group_with(program: u32, projection_loc: i32) -> ShareGroup {
+        let g = ShareGroup::new(900);
+        g.linked(
+            program,
+            ProgramInfo {
+                view_loc: 0,
+                projection_loc: Some(projection_loc),
+                ..Default::default()
+            },
+        );
+        g
+    }
+
+    #[test]
+    fn follows_its_own_uploads_without_retaking() {
+        let g = group_with(3, 5);
+        let mut s = ProgramSnapshot::default();
+        s.take(&g, 3);
+        let m = [2.0; 16];
+        let before = g.uploaded(3, 5, m);
+        s.uploaded(3, 5, m, before);
+        let locks = g.uploads.load(Ordering::Acquire);
+        assert_eq!(s.current(&g, 3).projection, Some(m));
+        // Still fresh: nothing was retaken (the seen generation is the group's).
+        assert_eq!(s.uploads_seen, locks);
+        // An upload to another program by this context keeps it fresh too.
+        let before = g.uploaded(4, 5, [7.0; 16]);
+        s.uploaded(4, 5, [7.0; 16], before);
+        assert_eq!(s.uploads_seen, g.uploads.load(Ordering::Acquire));
+        assert_eq!(s.projection, Some(m));
+    }
+
+    #[test]
+    fn an_upload_from_another_context_or_a_relink_is_seen_at_the_next_draw() {
+        let g = group_with(3, 5);
+        let mut s = ProgramSnapshot::default();
+        s.take(&g, 3);
+        // Another context uploads (its snapshot, not ours, follows).
+        g.uploaded(3, 5, [4.0; 16]);
+        assert_eq!(s.current(&g, 3).projection, Some([4.0; 16]));
+        // Relinked elsewhere with the projection somewhere else.
+        g.linked(
+            3,
+            ProgramInfo {
+                view_loc: 1,
+                projection_loc: Some(6),
+                ..Default::default()
+            },
+        );
+        let snap = s.current(&g, 3);
+        assert_eq!(snap.info.as_ref().map(|i| i.view_loc), Some(1));
+        assert_eq!(snap.projection, None);
+    }
+
+    #[test]
+    fn a_stale_upload_of_ours_does_not_skip_another_contexts() {
+        let g = group_with(3, 5);
+        let mut s = ProgramSnapshot::default();
+        s.take(&g, 3);
+        g.uploaded(3, 5, [4.0; 16]); // another context
+        let before = g.uploaded(3, 9, [1.0; 16]); // ours, to another uniform
+        s.uploaded(3, 9, [1.0; 16], before);
+        // Ours came after theirs: the snapshot must still be retaken to see theirs.
+        assert_eq!(s.current(&g, 3).projection, Some([4.0; 16]));
+    }
+}
