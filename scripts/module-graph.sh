@@ -25,7 +25,7 @@ state, order = {}, []
 def visit(n, path):
     if state.get(n) == 1:
         cycle = path[path.index(n):] + [n]
-        print("cycle: " + " -> ".join(cycle))
+        print("module graph has a cycle: " + " -> ".join(cycle), file=sys.stderr)
         sys.exit(1)
     if state.get(n) == 2:
         return
