@@ -1,78 +1,20 @@
-//! Helpers shared by the integration tests: locating the built layer, launcher and sample
-//! apps, running them headless with a time limit, and comparing PNGs.
-#![allow(dead_code)]
+//! Images (RGB8, top-down) and the measures the tests take of them.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-/// Longest any single program run may take before the test fails (llvmpipe on 2 cores).
-pub const RUN_TIMEOUT_S: u32 = 180;
-
-pub fn launcher() -> PathBuf {
-    PathBuf::from(env!("CARGO_BIN_EXE_holoinject"))
-}
-
-pub fn layer_lib() -> PathBuf {
-    launcher().with_file_name("libholoinject.so")
-}
-
-/// A sample app from `tests/apps`, built into the same profile directory by `scripts/test.sh`.
-pub fn app(name: &str) -> PathBuf {
-    let p = launcher().with_file_name(name);
-    assert!(
-        p.exists(),
-        "{} missing: build the sample apps first (`cargo build --workspace --release`, done by scripts/test.sh)",
-        p.display()
-    );
-    p
-}
-
-/// A fresh, empty directory for one test.
-pub fn temp_dir(test: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(test);
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-pub fn require_display() {
-    assert!(
-        std::env::var_os("DISPLAY").is_some(),
-        "GLX tests need an X server: run the tests through scripts/test.sh (it starts Xvfb)"
-    );
-}
-
-/// Runs `program args…` under `timeout`, with extra environment, and returns its output.
-pub fn run(program: &Path, args: &[&str], env: &[(&str, &str)]) -> Output {
-    let mut cmd = Command::new("timeout");
-    cmd.arg(RUN_TIMEOUT_S.to_string())
-        .arg(program)
-        .args(args)
-        .envs(env.iter().copied());
-    cmd.env("ALSOFT_DRIVERS", "null");
-    cmd.output()
-        .unwrap_or_else(|e| panic!("cannot run {}: {e}", program.display()))
-}
-
-pub fn assert_success(out: &Output, what: &str) {
-    assert!(
-        out.status.success(),
-        "{what} failed ({}):\nstdout: {}\nstderr: {}",
-        out.status,
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
-}
-
-pub fn stderr(out: &Output) -> String {
-    String::from_utf8_lossy(&out.stderr).into_owned()
-}
+use std::path::Path;
 
 pub struct Image {
     pub width: u32,
     pub height: u32,
     /// RGB8, top-down.
     pub rgb: Vec<u8>,
+}
+
+impl Image {
+    /// The pixel at column `x`, row `y` (from the top), if the image has one there.
+    pub fn pixel(&self, x: u32, y: u32) -> Option<&[u8]> {
+        let i = ((y * self.width + x) * 3) as usize;
+        (x < self.width && y < self.height).then(|| &self.rgb[i..i + 3])
+    }
 }
 
 pub fn read_png(path: &Path) -> Image {
@@ -94,46 +36,9 @@ pub fn read_png(path: &Path) -> Image {
     }
 }
 
-fn write_png(path: &Path, img: &Image) {
-    holoinject::output::png::write_rgb(path, img.width, img.height, &img.rgb).unwrap();
-}
-
-/// Exact equality; on failure writes `<actual>-actual.png` and `<actual>-diff.png` (white
-/// where pixels differ) next to the actual image.
-pub fn assert_identical(expected: &Path, actual: &Path) {
-    let (e, a) = (read_png(expected), read_png(actual));
-    assert_eq!(
-        (e.width, e.height),
-        (a.width, a.height),
-        "size differs: {} vs {}",
-        expected.display(),
-        actual.display()
-    );
-    let diff: Vec<u8> = e
-        .rgb
-        .chunks(3)
-        .zip(a.rgb.chunks(3))
-        .flat_map(|(x, y)| if x == y { [0; 3] } else { [255; 3] })
-        .collect();
-    let differing = diff.iter().step_by(3).filter(|&&d| d != 0).count();
-    if differing > 0 {
-        write_png(&actual.with_extension("png-actual.png"), &a);
-        write_png(
-            &actual.with_extension("png-diff.png"),
-            &Image {
-                width: a.width,
-                height: a.height,
-                rgb: diff,
-            },
-        );
-    }
-    assert_eq!(
-        differing,
-        0,
-        "{differing} pixels differ between {} and {}",
-        expected.display(),
-        actual.display()
-    );
+pub fn save(img: &Image, path: &Path) {
+    holoinject::output::png::write_rgb(path, img.width, img.height, &img.rgb)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
 }
 
 /// True when the image is not one flat colour (a blank frame would make "identical" trivial).
@@ -205,8 +110,4 @@ pub fn horizontal_shift(a: &Image, b: &Image, max: i32) -> i32 {
         e
     };
     (-max..=max).min_by(|&p, &q| err(p).total_cmp(&err(q))).unwrap()
-}
-
-pub fn save(img: &Image, path: &Path) {
-    write_png(path, img);
 }

@@ -1,8 +1,7 @@
 //! The shared object itself: what it exports, that it stays silent on stdout, and that an
 //! internal failure degrades to pass-through instead of taking the program down.
 
-mod util;
-use util::*;
+use crate::util::*;
 
 #[test]
 fn exports_exactly_the_policy_table() {
@@ -31,25 +30,10 @@ fn exports_exactly_the_policy_table() {
 fn nothing_on_stdout_from_a_gl_program() {
     let dir = temp_dir("silent_stdout");
     let shot = dir.join("s.png");
-    let cubes = app("cubes");
-    let args = [
-        "run",
-        "--quilt",
-        "3x3",
-        "--log",
-        "debug",
-        "--",
-        cubes.to_str().unwrap(),
-        "--backend",
-        "egl",
-        "--size",
-        "160x120",
-        "--frames",
-        "3",
-        "--screenshot",
-        shot.to_str().unwrap(),
-    ];
-    let out = run(&launcher(), &args, &[]);
+    let args = ["--backend", "egl", "--size", "160x120", "--frames", "3", "--screenshot"];
+    let mut args = args.to_vec();
+    args.push(shot.to_str().unwrap());
+    let out = under_layer(&["--quilt", "3x3", "--log", "debug"], app("cubes"), &args, &[]);
     assert_success(&out, "cubes");
     assert!(
         out.stdout.is_empty(),
@@ -69,22 +53,11 @@ fn forced_internal_error_falls_back_to_pass_through() {
     let mut plain_args = app_args.to_vec();
     plain_args.push(plain.to_str().unwrap());
     assert_success(&run(&cubes, &plain_args, &[]), "plain cubes");
-    let mut args = vec![
-        "run",
-        "--quilt",
-        "3x3",
-        "--dump",
-        dump.to_str().unwrap(),
-        "--dump-frames",
-        "4",
-        "--exit-after",
-        "4",
-        "--",
-        cubes.to_str().unwrap(),
-    ];
-    args.extend(app_args);
+    let mut options = vec!["--quilt", "3x3"];
+    options.extend(dump_and_exit_at(&dump, "4"));
+    let mut args = app_args.to_vec();
     args.push(injected.to_str().unwrap());
-    let out = run(&launcher(), &args, &[("HOLOINJECT_TEST_FAIL", "eglSwapBuffers")]);
+    let out = under_layer(&options, &cubes, &args, &[("HOLOINJECT_TEST_FAIL", "eglSwapBuffers")]);
     assert_success(&out, "cubes with a failing swap hook");
     let err = stderr(&out);
     assert_eq!(
@@ -111,14 +84,12 @@ fn default_framebuffer_queries_answer_for_the_window() {
     let cubes = app("cubes");
     let app_args = ["--backend", "egl", "--size", "160x120", "--frames", "2"];
     let plain = run(&cubes, &app_args, &[("HOLOAPPS_VERBOSE", "1")]);
-    let mut args = vec!["run", "--quilt", "3x3", "--", cubes.to_str().unwrap()];
-    args.extend(app_args);
-    let injected = run(&launcher(), &args, &[("HOLOAPPS_VERBOSE", "1")]);
+    let injected = under_layer(&["--quilt", "3x3"], &cubes, &app_args, &[("HOLOAPPS_VERBOSE", "1")]);
     assert_success(&injected, "cubes under the layer");
     let first = |o: &std::process::Output| stderr(o).lines().next().unwrap_or("").to_string();
     assert!(first(&plain).contains("(depth 24, stencil 8)"), "{}", first(&plain));
     assert_eq!(first(&injected), first(&plain));
-    assert!(!stderr(&injected).contains("GL error"), "{}", stderr(&injected));
+    assert_no_gl_error(&injected);
 }
 
 /// Several contexts in one share group, current on two threads at once, sharing a texture:
@@ -134,20 +105,8 @@ fn two_threads_sharing_a_texture() {
         &run(&tt, &["--frames", "5", "--screenshot", &shot(&plain)], &[]),
         "plain twothreads",
     );
-    let args = [
-        "run",
-        "--quilt",
-        "3x3",
-        "--log",
-        "info",
-        "--",
-        tt.to_str().unwrap(),
-        "--frames",
-        "5",
-        "--screenshot",
-        &shot(&injected),
-    ];
-    let out = run(&launcher(), &args, &[]);
+    let args = ["--frames", "5", "--screenshot", &shot(&injected)];
+    let out = under_layer(&["--quilt", "3x3", "--log", "info"], &tt, &args, &[]);
     assert_success(&out, "twothreads under the layer");
     assert_eq!(
         stderr(&out).matches("created (share group 1)").count(),
@@ -180,11 +139,7 @@ fn churn_objects(layer: &[&str], cycles: u32, extra: &[&str], shot: &std::path::
     let out = if layer.is_empty() {
         run(&churn, &args, &[])
     } else {
-        let mut injected = vec!["run"];
-        injected.extend(layer);
-        injected.extend(["--", churn.to_str().unwrap()]);
-        injected.extend(args);
-        run(&launcher(), &injected, &[])
+        under_layer(layer, &churn, &args, &[])
     };
     assert_success(&out, &format!("churn {layer:?} --cycles {cycles} {extra:?}"));
     let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
@@ -336,13 +291,16 @@ fn render_targets_made_in_another_context_or_under_a_reused_name_are_shadowed() 
         let args = app_args(&plain);
         let out = run(&churn, &args.iter().map(String::as_str).collect::<Vec<_>>(), &env);
         assert_success(&out, &format!("plain churn {extra:?}"));
-        let mut args = ["run", "--quilt", "3x3", "--log", "info", "--depthiness", "0.1"]
-            .map(str::to_string)
-            .to_vec();
-        args.extend(["--convergence", "0.01", "--dump", dump.to_str().unwrap()].map(str::to_string));
-        args.extend(["--dump-frames", "6", "--", churn.to_str().unwrap()].map(str::to_string));
-        args.extend(app_args(&injected));
-        let out = run(&launcher(), &args.iter().map(String::as_str).collect::<Vec<_>>(), &env);
+        let mut options = vec!["--quilt", "3x3", "--log", "info", "--depthiness", "0.1"];
+        options.extend(["--convergence", "0.01", "--dump", dump.to_str().unwrap()]);
+        options.extend(["--dump-frames", "6"]);
+        let args = app_args(&injected);
+        let out = under_layer(
+            &options,
+            &churn,
+            &args.iter().map(String::as_str).collect::<Vec<_>>(),
+            &env,
+        );
         assert_success(&out, &format!("churn {extra:?} under the layer"));
         let err = stderr(&out);
         let shadowed = err.lines().filter(|l| l.contains(" shadowed with 9 layers")).count();
@@ -353,12 +311,8 @@ fn render_targets_made_in_another_context_or_under_a_reused_name_are_shadowed() 
         assert_identical(&plain, &injected);
         // Side views shifted as the cubes' depth says (convergence at the camera: every
         // pixel moves away from the centre view, more with distance from it).
-        let q = read_png(&dump.join("f000006_qs3x3a1.3333.png"));
-        let centre = tile(&q, 3, 3, 4);
-        let shifts: Vec<i32> = [5, 8]
-            .map(|i| horizontal_shift(&centre, &tile(&q, 3, 3, i), 20).abs())
-            .to_vec();
-        println!("churn {extra:?}: views 5 and 8 shifted by {shifts:?} px from the centre");
-        assert!(shifts[0] > 0 && shifts[1] > shifts[0], "no parallax: {shifts:?}");
+        let quilt_png = dump.join("f000006_qs3x3a1.3333.png");
+        let what = format!("churn {extra:?}");
+        assert_parallax_grows(&read_png(&quilt_png), &quilt_png, (3, 3), 4, &[5, 8], 20, &what);
     }
 }

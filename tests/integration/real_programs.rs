@@ -6,9 +6,8 @@
 //! same frame bit for bit. glmark2 itself (which `dlopen`s libGL `RTLD_LOCAL`) is also run
 //! directly to prove the dlopen/dlsym path is hooked.
 
-mod util;
+use crate::util::*;
 use std::path::{Path, PathBuf};
-use util::*;
 
 /// Records `program` with apitrace for `seconds` (or until it exits). `timeout` signals the
 /// whole process group; apitrace's own signal handler in the traced program has been seen
@@ -55,29 +54,11 @@ fn plain_snapshot(dir: &Path, retrace: &str, trace: &Path, frame: u32) -> PathBu
 fn injected_dump(dir: &Path, retrace: &str, trace: &Path, frame: u32) -> PathBuf {
     let dump = dir.join("injected");
     let n = frame.to_string();
-    let args = [
-        "run",
-        "--output",
-        "mono",
-        "--log",
-        "info",
-        "--dump",
-        dump.to_str().unwrap(),
-        "--dump-frames",
-        &n,
-        "--exit-after",
-        &n,
-        "--",
-        retrace,
-        trace.to_str().unwrap(),
-    ];
-    let out = run(&launcher(), &args, &[]);
+    let mut options = vec!["--output", "mono", "--log", "info"];
+    options.extend(dump_and_exit_at(&dump, &n));
+    let out = under_layer(&options, retrace, &[trace.to_str().unwrap()], &[]);
     assert_success(&out, "replay under the layer");
-    assert!(
-        stderr(&out).contains("holoinject 0.1.0 active"),
-        "layer not loaded: {}",
-        stderr(&out)
-    );
+    assert_layer_loaded(&out);
     dump.join(format!("f{frame:06}_out.png"))
 }
 
@@ -111,53 +92,25 @@ fn replay_quilt(test: &str, api: &str, retrace: &str, program: &[&str], seconds:
     let plain = read_png(&plain_snapshot(&dir, retrace, &trace, frame));
     let dump = dir.join("quilt");
     let n = frame.to_string();
-    let args = [
-        "run",
-        "--quilt",
-        "5x1",
-        "--depthiness",
-        "0.1",
-        "--convergence",
-        "0.01",
-        "--log",
-        "info",
-        "--dump",
-        dump.to_str().unwrap(),
-        "--dump-frames",
-        &n,
-        "--exit-after",
-        &n,
-        "--",
-        retrace,
-        trace.to_str().unwrap(),
-    ];
-    assert_success(&run(&launcher(), &args, &[]), "replay under the layer");
+    let mut options = vec!["--quilt", "5x1", "--depthiness", "0.1", "--convergence", "0.01"];
+    options.extend(["--log", "info"]);
+    options.extend(dump_and_exit_at(&dump, &n));
+    let out = under_layer(&options, retrace, &[trace.to_str().unwrap()], &[]);
+    assert_success(&out, "replay under the layer");
     let aspect = holoinject::multiview::layout::QuiltLayout::new((5, 1), None, (plain.width, plain.height)).file_tag();
-    let quilt = read_png(&dump.join(format!("f{frame:06}_{aspect}.png")));
+    let quilt_png = dump.join(format!("f{frame:06}_{aspect}.png"));
+    let quilt = read_png(&quilt_png);
     let centre = tile(&quilt, 5, 1, 2);
-    let differing = plain
-        .rgb
-        .chunks(3)
-        .zip(centre.rgb.chunks(3))
-        .filter(|(a, b)| a.iter().zip(b.iter()).any(|(x, y)| x.abs_diff(*y) > 1))
-        .count();
     let limit = (plain.width * plain.height) as usize / 2000;
-    assert!(
-        differing <= limit,
-        "{test}: centre tile differs from the plain frame in {differing} pixels (limit {limit})"
-    );
-    if !parallax {
-        return;
+    let rule = Tolerance {
+        level: 1,
+        pixels: limit,
+    };
+    let what = format!("{test}: centre tile against the plain frame");
+    assert_within(&plain, &centre, &suffixed(&quilt_png, "-centre"), rule, &what);
+    if parallax {
+        assert_parallax_grows(&quilt, &quilt_png, (5, 1), 2, &[3, 4], 30, test);
     }
-    let shifts: Vec<i32> = [3, 4]
-        .iter()
-        .map(|&i| horizontal_shift(&centre, &tile(&quilt, 5, 1, i), 30).abs())
-        .collect();
-    eprintln!("{test}: centre differs in {differing} px; shifts of views 3, 4: {shifts:?}");
-    assert!(
-        shifts[0] > 0 && shifts[1] > shifts[0],
-        "{test}: no growing parallax: {shifts:?}"
-    );
 }
 
 #[test]
@@ -226,24 +179,9 @@ fn glmark2_dlopen_rtld_local_is_hooked() {
     require_display();
     let dir = temp_dir("glmark2_dlopen");
     let dump = dir.join("d");
-    let args = [
-        "run",
-        "--log",
-        "debug",
-        "--dump",
-        dump.to_str().unwrap(),
-        "--dump-frames",
-        "5",
-        "--exit-after",
-        "5",
-        "--",
-        "glmark2",
-        "-s",
-        "320x240",
-        "-b",
-        "build:duration=5",
-    ];
-    let out = run(&launcher(), &args, &[]);
+    let mut options = vec!["--log", "debug"];
+    options.extend(dump_and_exit_at(&dump, "5"));
+    let out = under_layer(&options, "glmark2", &["-s", "320x240", "-b", "build:duration=5"], &[]);
     assert_success(&out, "glmark2 under the layer");
     let err = stderr(&out);
     assert!(
@@ -280,13 +218,6 @@ fn es_window_with_32bit_depth_gets_a_quilt() {
     require_display();
     for program in ["glmark2", "glmark2-es2"] {
         let args = [
-            "run",
-            "--quilt",
-            "3x3",
-            "--log",
-            "warn",
-            "--",
-            program,
             "-s",
             "320x240",
             "-b",
@@ -298,7 +229,7 @@ fn es_window_with_32bit_depth_gets_a_quilt() {
             "-b",
             "desktop:duration=0.2",
         ];
-        let out = run(&launcher(), &args, &[]);
+        let out = under_layer(&["--quilt", "3x3", "--log", "warn"], program, &args, &[]);
         assert_success(&out, program);
         let err = stderr(&out);
         assert!(
@@ -321,13 +252,11 @@ fn destroyed_contexts_are_not_kept() {
         "bump:duration=0.1",
         "pulsar:duration=0.1",
     ];
-    let mut args = vec![
-        "run", "--quilt", "2x1", "--log", "info", "--", "glmark2", "-s", "160x120",
-    ];
+    let mut args = vec!["-s", "160x120"];
     for s in &scenes {
         args.extend(["-b", s]);
     }
-    let out = run(&launcher(), &args, &[]);
+    let out = under_layer(&["--quilt", "2x1", "--log", "info"], "glmark2", &args, &[]);
     assert_success(&out, "glmark2");
     let err = stderr(&out);
     let tracked: Vec<usize> = err

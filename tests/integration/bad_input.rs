@@ -2,21 +2,11 @@
 //! option, variable, file or field; the launcher refuses to start, the layer keeps the
 //! program running with the default. Every row of README's bad-input table is a case here.
 
-mod util;
-use util::*;
+use crate::util::*;
 
 fn launcher_refuses(args: &[&str], needle: &str) {
-    let mut all = vec!["run"];
-    all.extend_from_slice(args);
-    all.extend(["--", "true"]);
-    let out = run(&launcher(), &all, &[]);
-    let err = stderr(&out);
-    assert!(!out.status.success(), "{args:?} accepted");
-    assert_eq!(err.lines().count(), 1, "{args:?}: {err}");
-    assert!(
-        err.contains(needle) && !err.contains("panicked"),
-        "{args:?}: `{needle}` not in {err}"
-    );
+    let out = under_layer(args, "true", &[], &[]);
+    assert_one_line_failure(&out, needle, &format!("{args:?}"));
 }
 
 #[test]

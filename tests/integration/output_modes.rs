@@ -2,46 +2,22 @@
 //! the native weave against the CPU reference (`output::weave::weave_cpu`), the anaglyph
 //! against Dubois' matrices applied on the CPU, `mono` against the centre tile.
 
-mod util;
+use crate::util::*;
 use holoinject::config::calibration::DevicePreset;
 use holoinject::output::weave::{Filter, weave_cpu};
 use std::path::PathBuf;
-use util::*;
 
 fn run_cubes(test: &str, size: &str, layer: &[&str]) -> PathBuf {
     let dir = temp_dir(test);
     let dump = dir.join("dump");
-    let mut args = vec![
-        "run",
-        "--dump",
-        dump.to_str().unwrap(),
-        "--dump-frames",
-        "2",
-        "--exit-after",
-        "2",
-    ];
-    args.extend_from_slice(layer);
-    let cubes = app("cubes");
-    args.extend([
-        "--",
-        cubes.to_str().unwrap(),
-        "--backend",
-        "egl",
-        "--size",
-        size,
-        "--frames",
-        "2",
-    ]);
-    assert_success(&run(&launcher(), &args, &[]), "cubes under the layer");
+    let mut options = dump_and_exit_at(&dump, "2").to_vec();
+    options.extend_from_slice(layer);
+    let args = ["--backend", "egl", "--size", size, "--frames", "2"];
+    assert_success(
+        &under_layer(&options, app("cubes"), &args, &[]),
+        "cubes under the layer",
+    );
     dump
-}
-
-/// Largest per-channel difference and the fraction of channels that differ at all.
-fn difference(a: &[u8], b: &[u8]) -> (u8, f64) {
-    assert_eq!(a.len(), b.len());
-    let max = a.iter().zip(b).map(|(x, y)| x.abs_diff(*y)).max().unwrap_or(0);
-    let differing = a.iter().zip(b).filter(|(x, y)| x != y).count();
-    (max, differing as f64 / a.len() as f64)
 }
 
 fn native_matches_cpu(filter_arg: &str, filter: Filter) {
@@ -51,7 +27,8 @@ fn native_matches_cpu(filter_arg: &str, filter: Filter) {
         &["--device", "portrait", "--weave-filter", filter_arg],
     );
     let quilt = read_png(&dump.join("f000002_qs8x6a0.75.png"));
-    let native = read_png(&dump.join("f000002_native.png"));
+    let native_png = dump.join("f000002_native.png");
+    let native = read_png(&native_png);
     let device = DevicePreset::get("portrait").unwrap();
     let params = device.calibration.weave_params(48);
     assert_eq!((native.width, native.height), (1536, 2048));
@@ -66,18 +43,15 @@ fn native_matches_cpu(filter_arg: &str, filter: Filter) {
         native.width,
         native.height,
     );
-    let (max, frac) = difference(&cpu, &native.rgb);
-    eprintln!(
-        "native {filter_arg}: max channel difference {max}, {:.4}% of channels differ",
-        frac * 100.0
-    );
+    let cpu = Image {
+        width: native.width,
+        height: native.height,
+        rgb: cpu,
+    };
     // Nearest selects whole views: GPU and CPU must agree exactly except where a phase lands
     // within float rounding of a view boundary. Blending may also round the mix by one level.
-    assert!(
-        max <= if filter == Filter::Nearest { 255 } else { 2 },
-        "max difference {max}"
-    );
-    assert!(frac < 0.001, "{:.4}% of channels differ", frac * 100.0);
+    let max = if filter == Filter::Nearest { 255 } else { 2 };
+    assert_channels_close(&cpu, &native, &native_png, max, 0.001, &format!("native {filter_arg}"));
 }
 
 #[test]
@@ -111,7 +85,8 @@ fn anaglyph_applies_dubois_to_the_stereo_pair() {
         &["--quilt", "3x3", "--output", "anaglyph", "--depthiness", "0.1"],
     );
     let quilt = read_png(&dump.join("f000002_qs3x3a1.3333.png"));
-    let out = read_png(&dump.join("f000002_out.png"));
+    let out_png = dump.join("f000002_out.png");
+    let out = read_png(&out_png);
     let (l, r) = holoinject::output::compose::stereo_pair(9);
     let (tl, tr) = (tile(&quilt, 3, 3, l), tile(&quilt, 3, 3, r));
     const LEFT: [[f32; 3]; 3] = [
@@ -137,12 +112,12 @@ fn anaglyph_applies_dubois_to_the_stereo_pair() {
             })
         })
         .collect();
-    let (max, frac) = difference(&expected, &out.rgb);
-    assert!(
-        max <= 1 && frac < 0.05,
-        "anaglyph differs: max {max}, {:.3}% channels",
-        frac * 100.0
-    );
+    let expected = Image {
+        width: tl.width,
+        height: tl.height,
+        rgb: expected,
+    };
+    assert_channels_close(&expected, &out, &out_png, 1, 0.05, "anaglyph");
 }
 
 #[test]
@@ -152,7 +127,8 @@ fn side_by_side_shows_the_stereo_pair() {
         "320x240",
         &["--quilt", "3x3", "--output", "sbs", "--depthiness", "0.1"],
     );
-    let out = read_png(&dump.join("f000002_out.png"));
+    let out_png = dump.join("f000002_out.png");
+    let out = read_png(&out_png);
     assert_eq!((out.width, out.height), (320, 240));
     let half = |x0: u32| Image {
         width: 160,
@@ -162,8 +138,8 @@ fn side_by_side_shows_the_stereo_pair() {
             .collect(),
     };
     let (left, right) = (half(0), half(160));
-    assert_ne!(left.rgb, right.rgb, "both halves identical: no stereo");
-    assert!(has_content(&dump.join("f000002_out.png")));
+    assert_images_differ(&left, &right, &out_png, "both halves identical: no stereo");
+    assert!(has_content(&out_png));
 }
 
 #[test]
