@@ -8,7 +8,7 @@
 
 use super::program::ProgramSnapshot;
 use crate::gl::{BACK, GLenum, Gl, GlInfo};
-use std::collections::HashSet;
+use std::collections::HashMap;
 
 /// Texture bindings of `GL_TEXTURE_2D` per unit, as the app made them.
 #[derive(Clone, Debug, Default)]
@@ -57,12 +57,26 @@ pub struct AppState {
     pub projection: Option<[f32; 16]>,
     /// What the layer knows of the current program (not app-visible: see `program`).
     pub current: ProgramSnapshot,
-    /// The display list being compiled: its name, mode, and whether it holds a call that
-    /// changes shadowed state.
-    pub list: Option<(u32, GLenum, bool)>,
-    /// Lists compiled in this context that change no shadowed state: calling them keeps the
-    /// shadows (any other list makes them unknown).
-    pub plain_lists: HashSet<u32>,
+    /// The display list being compiled: its name, mode, and what its calls do to shadowed
+    /// state so far.
+    pub list: Option<(u32, GLenum, ListEffect)>,
+    /// What the lists compiled in this context do to shadowed state when called (a list not
+    /// compiled here may do anything).
+    pub lists: HashMap<u32, ListEffect>,
+}
+
+/// What a call, or a display list of calls, does to the state the layer shadows; ordered, a
+/// list does the most of what its calls do.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum ListEffect {
+    Nothing,
+    /// Changes the matrix of the current mode (`glRotate`, `glLoadIdentity`…): the projection
+    /// only if the mode is GL_PROJECTION when the list is called.
+    CurrentMatrix,
+    /// Changes the projection whatever the mode (direct-state-access calls naming it).
+    Projection,
+    /// Anything (the matrix mode, the shadowed enables, `glPopAttrib`, other lists).
+    Anything,
 }
 
 impl AppState {
@@ -95,15 +109,15 @@ impl AppState {
             projection: None,
             current: ProgramSnapshot::default(),
             list: None,
-            plain_lists: HashSet::new(),
+            lists: HashMap::new(),
         }
     }
 
-    /// A call that changes shadowed state: applied by `apply` unless it is only being
-    /// compiled into a display list (`GL_COMPILE`), and noted against the list.
-    pub fn shadowed_call(&mut self, apply: impl FnOnce(&mut AppState)) {
-        if let Some((_, mode, touches)) = &mut self.list {
-            *touches = true;
+    /// A call that changes shadowed state (by `effect`): applied by `apply` unless it is only
+    /// being compiled into a display list (`GL_COMPILE`), and noted against the list.
+    pub fn shadowed_call(&mut self, effect: ListEffect, apply: impl FnOnce(&mut AppState)) {
+        if let Some((_, mode, list_effect)) = &mut self.list {
+            *list_effect = (*list_effect).max(effect);
             if *mode == crate::gl::COMPILE {
                 return;
             }
@@ -114,26 +128,28 @@ impl AppState {
     /// `glNewList(name, mode)`.
     pub fn list_begun(&mut self, name: u32, mode: GLenum) {
         self.compiling_list = true;
-        self.list = Some((name, mode, false));
+        self.list = Some((name, mode, ListEffect::Nothing));
     }
 
     /// `glEndList()`.
     pub fn list_ended(&mut self) {
         self.compiling_list = false;
-        if let Some((name, _, touches)) = self.list.take() {
-            if touches {
-                self.plain_lists.remove(&name);
-            } else {
-                self.plain_lists.insert(name);
-            }
+        if let Some((name, _, effect)) = self.list.take() {
+            self.lists.insert(name, effect);
         }
     }
 
-    /// `glCallList(name)` just ran.
-    pub fn list_called(&mut self, name: u32) {
-        if !self.plain_lists.contains(&name) {
-            self.shadowed_call(AppState::forget_shadowed);
-        }
+    /// `glCallList(name)` just ran (`None`: lists the layer cannot name, `glCallLists`).
+    pub fn list_called(&mut self, name: Option<u32>) {
+        let effect = name
+            .and_then(|n| self.lists.get(&n).copied())
+            .unwrap_or(ListEffect::Anything);
+        self.shadowed_call(effect, |app| match effect {
+            ListEffect::Nothing => {}
+            ListEffect::CurrentMatrix => app.matrix_changed(None),
+            ListEffect::Projection => app.projection = None,
+            ListEffect::Anything => app.forget_shadowed(),
+        });
     }
 
     /// `glIsEnabled(cap)` for the shadowed caps, asked of GL only when unknown.
@@ -220,7 +236,7 @@ mod tests {
             projection: Some([1.0; 16]),
             current: ProgramSnapshot::default(),
             list: None,
-            plain_lists: HashSet::new(),
+            lists: HashMap::new(),
         }
     }
 
@@ -243,11 +259,11 @@ mod tests {
     fn compiled_calls_change_no_shadow_but_mark_the_list() {
         let mut a = known();
         a.list_begun(7, COMPILE);
-        a.shadowed_call(|a| a.matrix_mode = Some(PROJECTION));
-        a.shadowed_call(|a| a.set_enabled(SCISSOR_TEST, true));
+        a.shadowed_call(ListEffect::Anything, |a| a.matrix_mode = Some(PROJECTION));
+        a.shadowed_call(ListEffect::Anything, |a| a.set_enabled(SCISSOR_TEST, true));
         a.list_ended();
         assert_eq!((a.matrix_mode, a.scissor_test), (Some(MODELVIEW), Some(false)));
-        a.list_called(7);
+        a.list_called(Some(7));
         assert_eq!((a.matrix_mode, a.scissor_test, a.projection), (None, None, None));
     }
 
@@ -256,19 +272,34 @@ mod tests {
         let mut a = known();
         a.list_begun(8, COMPILE_AND_EXECUTE);
         a.list_ended();
-        a.list_called(8);
+        a.list_called(Some(8));
         assert_eq!(a.matrix_mode, Some(MODELVIEW));
-        a.list_called(9); // never seen compiled
+        a.list_called(Some(9)); // never seen compiled
         assert_eq!(a.matrix_mode, None);
         // Recompiled with a shadowed call: no longer plain.
         let mut a = known();
         a.list_begun(8, COMPILE_AND_EXECUTE);
         a.list_ended();
         a.list_begun(8, COMPILE_AND_EXECUTE);
-        a.shadowed_call(|a| a.set_enabled(SCISSOR_TEST, true));
+        a.shadowed_call(ListEffect::Anything, |a| a.set_enabled(SCISSOR_TEST, true));
         a.list_ended();
         assert_eq!(a.scissor_test, Some(true), "executed while compiled");
-        a.list_called(8);
+        a.list_called(Some(8));
         assert_eq!(a.scissor_test, None);
+    }
+
+    /// A list of modelview transforms (the common case: an object's placement) keeps the
+    /// projection when called in modelview mode, and drops it in projection mode.
+    #[test]
+    fn lists_of_current_matrix_calls_drop_the_projection_only_in_projection_mode() {
+        let mut a = known();
+        a.list_begun(4, COMPILE);
+        a.shadowed_call(ListEffect::CurrentMatrix, |a| a.matrix_changed(None));
+        a.list_ended();
+        a.list_called(Some(4));
+        assert!(a.projection.is_some() && a.matrix_mode == Some(MODELVIEW));
+        a.matrix_mode = Some(PROJECTION);
+        a.list_called(Some(4));
+        assert!(a.projection.is_none());
     }
 }

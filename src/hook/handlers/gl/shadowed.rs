@@ -7,6 +7,7 @@
 //! change no shadow.
 
 use crate::gl::types::*;
+use crate::state::app::ListEffect;
 
 fn shadowing() -> bool {
     crate::config::settings().multiview()
@@ -24,7 +25,7 @@ pub fn glDisable(real: impl Fn(GLenum), cap: GLenum) {
 
 fn enabled(cap: GLenum, on: bool) {
     if (cap == crate::gl::SCISSOR_TEST || cap == crate::gl::RASTERIZER_DISCARD) && shadowing() {
-        crate::state::with_app(|app| app.shadowed_call(|app| app.set_enabled(cap, on)));
+        crate::state::with_app(|app| app.shadowed_call(ListEffect::Anything, |app| app.set_enabled(cap, on)));
     }
 }
 
@@ -36,14 +37,14 @@ pub fn glPopAttrib(real: impl Fn()) {
 /// Something changed shadowed state without the layer seeing each call.
 fn forget_shadowed() {
     if shadowing() {
-        crate::state::with_app(|app| app.shadowed_call(|app| app.forget_shadowed()));
+        crate::state::with_app(|app| app.shadowed_call(ListEffect::Anything, |app| app.forget_shadowed()));
     }
 }
 
 pub fn glMatrixMode(real: impl Fn(GLenum), mode: GLenum) {
     real(mode);
     if shadowing() {
-        crate::state::with_app(|app| app.shadowed_call(|app| app.matrix_mode = Some(mode)));
+        crate::state::with_app(|app| app.shadowed_call(ListEffect::Anything, |app| app.matrix_mode = Some(mode)));
     }
 }
 
@@ -52,7 +53,12 @@ pub fn glMatrixMode(real: impl Fn(GLenum), mode: GLenum) {
 /// spellings, else the current matrix mode).
 pub fn matrix_changed(mode: Option<GLenum>) {
     if shadowing() {
-        crate::state::with_app(|app| app.shadowed_call(|app| app.matrix_changed(mode)));
+        let effect = match mode {
+            None => ListEffect::CurrentMatrix,
+            Some(crate::gl::PROJECTION) => ListEffect::Projection,
+            Some(_) => ListEffect::Nothing,
+        };
+        crate::state::with_app(|app| app.shadowed_call(effect, |app| app.matrix_changed(mode)));
     }
 }
 
@@ -60,7 +66,7 @@ pub fn matrix_changed(mode: Option<GLenum>) {
 pub fn glCallList(real: impl Fn(GLuint), list: GLuint) {
     super::per_view(|| real(list));
     if shadowing() {
-        crate::state::with_app(|app| app.list_called(list));
+        crate::state::with_app(|app| app.list_called(Some(list)));
     }
 }
 
@@ -72,5 +78,7 @@ pub fn glCallLists(
     lists: *const core::ffi::c_void,
 ) {
     super::per_view(|| real(n, ty, lists));
-    forget_shadowed();
+    if shadowing() {
+        crate::state::with_app(|app| app.list_called(None));
+    }
 }
