@@ -206,7 +206,10 @@ pub fn depthiness(given: Option<f64>, cone_deg: Option<f64>, fx: Option<f64>, la
     }
 }
 
-/// Runs `f` with the current context's multiview state and GL table, when multiview is on.
+/// Runs `f` with the current context's multiview state and GL table, when multiview is on and
+/// this thread is not inside `f` already (a hook re-entered from the app's synchronous debug
+/// callback, which GL runs inside a real call made here: see `state::lock`). `None`: the hook
+/// passes the call through.
 pub fn with_active<R>(f: impl FnOnce(&Current, &mut Multiview, &crate::gl::Gl) -> R) -> Option<R> {
     // Pass-through (`--output mono`) pays one load per hooked call, nothing more.
     if !crate::config::settings().multiview() {
@@ -215,7 +218,8 @@ pub fn with_active<R>(f: impl FnOnce(&Current, &mut Multiview, &crate::gl::Gl) -
     crate::state::with_current(|cur| {
         let cur = cur?;
         let (gl, _) = cur.ctx.gl()?;
-        let mut guard = cur.ctx.mv();
+        // None on re-entry from a callback inside one of our GL calls: pass through.
+        let mut guard = cur.ctx.mv()?;
         let mv = guard.as_mut()?;
         Some(f(cur, mv, gl))
     })
@@ -249,7 +253,7 @@ pub fn on_make_current(cur: &Current) {
         ));
         return;
     };
-    let mut guard = cur.ctx.mv();
+    let Some(mut guard) = cur.ctx.mv() else { return };
     let mv = guard.get_or_insert_with(|| Multiview::new(gl, *info, settings.view.clone(), window));
     framebuffer::ensure_target(gl, mv, window);
 }

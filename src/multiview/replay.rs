@@ -105,6 +105,35 @@ fn mode_of(matrix: Option<[f32; 16]>, mv: &mut Multiview) -> ViewMode {
     }
 }
 
+/// Where the current program's projection comes from, copied out of its share group: the
+/// group's lock is never held across a GL call (GL may call the app back, and the app us).
+enum ProjectionSource {
+    /// The compatibility built-ins: `GL_PROJECTION`.
+    Builtin,
+    /// A plain uniform, with its last uploaded value.
+    Tracked(Option<[f32; 16]>),
+    /// A uniform-block member, with the value last read and its buffer generation.
+    Block(super::ubo::UboMember, Option<(u64, [f32; 16])>),
+    Unknown,
+}
+
+/// `holoinject_view`'s location, whether the program sees through the main camera, and where
+/// its projection comes from; `None` for programs we left alone.
+fn program_projection(group: &ShareGroup, program: u32) -> Option<(i32, bool, ProjectionSource)> {
+    let state = group.lock();
+    let info = state.programs.get(&program).filter(|p| p.view_loc >= 0)?;
+    let source = if info.builtin_projection {
+        ProjectionSource::Builtin
+    } else if let Some(l) = info.projection_loc {
+        ProjectionSource::Tracked(state.matrices.get(&(program, l)).copied())
+    } else if let Some(m) = info.projection_ubo {
+        ProjectionSource::Block(m, info.ubo_cache)
+    } else {
+        ProjectionSource::Unknown
+    };
+    Some((info.view_loc, !info.identity, source))
+}
+
 fn shift_for(gl: &Gl, mv: &mut Multiview, group: &ShareGroup) -> Shift {
     if mv.program == 0 {
         if mv.info.es {
@@ -115,27 +144,15 @@ fn shift_for(gl: &Gl, mv: &mut Multiview, group: &ShareGroup) -> Shift {
             _ => Shift::None,
         };
     }
-    let mut state = group.lock();
-    let program = mv.program;
-    let tracked = |state: &crate::state::share::GroupState, loc: i32| state.matrices.get(&(program, loc)).copied();
-    let Some(info) = state.programs.get(&program).filter(|p| p.view_loc >= 0) else {
+    let Some((loc, camera, source)) = program_projection(group, mv.program) else {
         return Shift::None;
     };
-    let (loc, builtin, plain, ubo, camera) = (
-        info.view_loc,
-        info.builtin_projection,
-        info.projection_loc,
-        info.projection_ubo,
-        !info.identity,
-    );
-    let matrix = if builtin {
-        fixed_function_projection(gl)
-    } else if let Some(l) = plain {
-        tracked(&state, l)
-    } else {
-        ubo.and_then(|m| ubo_projection(gl, state.programs.get_mut(&program)?, program, m))
+    let matrix = match source {
+        ProjectionSource::Builtin => fixed_function_projection(gl),
+        ProjectionSource::Tracked(m) => m,
+        ProjectionSource::Block(m, cache) => ubo_projection(gl, group, mv.program, m, cache),
+        ProjectionSource::Unknown => None,
     };
-    drop(state);
     Shift::Uniform {
         loc,
         mode: mode_of(matrix, mv),
@@ -144,13 +161,21 @@ fn shift_for(gl: &Gl, mv: &mut Multiview, group: &ShareGroup) -> Shift {
 }
 
 /// A block-held projection, read again only when buffers may have changed.
-fn ubo_projection(gl: &Gl, info: &mut ProgramInfo, program: u32, m: super::ubo::UboMember) -> Option<[f32; 16]> {
+fn ubo_projection(
+    gl: &Gl,
+    group: &ShareGroup,
+    program: u32,
+    m: super::ubo::UboMember,
+    cache: Option<(u64, [f32; 16])>,
+) -> Option<[f32; 16]> {
     let generation = super::ubo::generation();
-    if let Some((_, value)) = info.ubo_cache.filter(|(g, _)| *g == generation) {
+    if let Some((_, value)) = cache.filter(|(g, _)| *g == generation) {
         return Some(value);
     }
     let value = super::ubo::read(gl, program, m)?;
-    info.ubo_cache = Some((generation, value));
+    if let Some(info) = group.lock().programs.get_mut(&program) {
+        info.ubo_cache = Some((generation, value));
+    }
     Some(value)
 }
 

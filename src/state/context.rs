@@ -2,11 +2,12 @@
 //! through (loaded once, via the platform's real loader, at first make-current).
 
 use super::ShareGroup;
+use super::lock::{GlGuard, GlMutex};
 use crate::gl::{Gl, SharedGl};
 use crate::hook::{HOOK_COUNT, HOOKS, id, real};
 use core::ffi::{CStr, c_void};
 use std::sync::atomic::{AtomicPtr, Ordering};
-use std::sync::{Arc, Mutex, MutexGuard, OnceLock};
+use std::sync::{Arc, OnceLock};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Platform {
@@ -58,7 +59,7 @@ pub struct Context {
     pub display: usize,
     pub group: Arc<ShareGroup>,
     /// Multiview state (None until the context is first made current with multiview on).
-    pub mv: Mutex<Option<crate::multiview::Multiview>>,
+    pub mv: GlMutex<Option<crate::multiview::Multiview>>,
     gl: OnceLock<Option<(SharedGl, GlInfo)>>,
     real: Box<[AtomicPtr<c_void>]>,
 }
@@ -71,14 +72,17 @@ impl Context {
             handle,
             display,
             group,
-            mv: Mutex::new(None),
+            mv: GlMutex::new(None),
             gl: OnceLock::new(),
             real,
         }
     }
 
-    pub fn mv(&self) -> MutexGuard<'_, Option<crate::multiview::Multiview>> {
-        self.mv.lock().unwrap_or_else(|e| e.into_inner())
+    /// The multiview state, locked; `None` when the calling thread holds it already: a hook
+    /// re-entered from inside a real GL call the layer makes with it locked (the app's
+    /// synchronous debug callback calling GL), which must pass straight through.
+    pub fn mv(&self) -> Option<GlGuard<'_, Option<crate::multiview::Multiview>>> {
+        self.mv.enter()
     }
 
     fn loader(&self) -> *const c_void {
@@ -129,7 +133,7 @@ impl Drop for Context {
     /// the objects the layer made in it that its share group keeps are handed to the group
     /// (see `orphans`), unless this was the group's last context.
     fn drop(&mut self) {
-        let mv = self.mv.get_mut().unwrap_or_else(|e| e.into_inner()).take();
+        let mv = self.mv.get_mut().take();
         let objects = mv.map(|mv| mv.shared_objects()).unwrap_or_default();
         if objects.count() == 0 {
             return;

@@ -7,6 +7,7 @@
 //! own.
 
 mod context;
+pub mod lock;
 pub mod orphans;
 pub mod share;
 pub mod textures;
