@@ -19,6 +19,7 @@ static REAL_DLOPEN: AtomicUsize = AtomicUsize::new(0);
 
 const GLIBC_VERSIONS: [&CStr; 2] = [c"GLIBC_2.34", c"GLIBC_2.2.5"];
 
+/// The real `name` from the C library (cached in `slot`), or 0.
 fn resolve(slot: &AtomicUsize, name: &CStr) -> usize {
     let cached = slot.load(Ordering::Acquire);
     if cached != 0 {
@@ -35,44 +36,114 @@ fn resolve(slot: &AtomicUsize, name: &CStr) -> usize {
     0
 }
 
+/// A real function the interposers forward to that the C library does not have under any
+/// version we know.
+#[derive(Debug, PartialEq, Eq)]
+struct Missing(&'static CStr);
+
+impl Missing {
+    /// `holoinject: fatal: cannot find the real NAME (GLIBC_2.34 / GLIBC_2.2.5)`, built in
+    /// `buf` (no allocation: this runs inside the first `dlsym` of the process).
+    fn line<'b>(&self, buf: &'b mut [u8; 128]) -> &'b [u8] {
+        let mut n = 0;
+        let mut put = |bytes: &[u8]| {
+            let k = bytes.len().min(buf.len() - n);
+            buf[n..n + k].copy_from_slice(&bytes[..k]);
+            n += k;
+        };
+        put(b"holoinject: fatal: cannot find the real ");
+        put(self.0.to_bytes());
+        for (i, version) in GLIBC_VERSIONS.iter().enumerate() {
+            put(if i == 0 { b" (" } else { b" / " });
+            put(version.to_bytes());
+        }
+        put(b")\n");
+        &buf[..n]
+    }
+
+    /// Says so on stderr and aborts: the interposer has nowhere to forward the call to.
+    fn abort(&self) -> ! {
+        let mut buf = [0u8; 128];
+        let line = self.line(&mut buf);
+        // SAFETY: writing our own buffer to fd 2 and aborting are allowed in any state.
+        unsafe {
+            libc::write(2, line.as_ptr().cast(), line.len());
+            libc::abort()
+        }
+    }
+}
+
+/// The real `name`, which the naked interposers below jump to.
+fn resolve_required(slot: &AtomicUsize, name: &'static CStr) -> Result<usize, Missing> {
+    match resolve(slot, name) {
+        0 => Err(Missing(name)),
+        f => Ok(f),
+    }
+}
+
+/// `resolve_required`, aborting with one line instead of letting an interposer jump to 0.
+fn require(slot: &AtomicUsize, name: &'static CStr) {
+    if let Err(missing) = resolve_required(slot, name) {
+        missing.abort()
+    }
+}
+
 /// The real `dlsym`, called from our own code (we are the caller: fine for lookups of GL
 /// entry points, whose answer does not depend on who asks).
-pub fn real_dlsym(handle: *mut c_void, name: *const c_char) -> *const c_void {
+///
+/// # Safety
+/// `handle` is `RTLD_DEFAULT`, `RTLD_NEXT`, or a handle from `dlopen` not yet closed.
+pub(crate) unsafe fn real_dlsym(handle: *mut c_void, name: &CStr) -> *const c_void {
     let f = resolve(&REAL_DLSYM, c"dlsym");
     if f == 0 {
         return core::ptr::null();
     }
-    // SAFETY: `f` is glibc's dlsym.
-    let f: unsafe extern "C" fn(*mut c_void, *const c_char) -> *const c_void = unsafe { core::mem::transmute(f) };
-    unsafe { f(handle, name) }
+    type Dlsym = unsafe extern "C" fn(*mut c_void, *const c_char) -> *const c_void;
+    // SAFETY: `f` is glibc's dlsym, which has this signature.
+    let f = unsafe { core::mem::transmute::<usize, Dlsym>(f) };
+    // SAFETY: the caller vouches for `handle`; `name` is NUL-terminated.
+    unsafe { f(handle, name.as_ptr()) }
 }
 
 /// `name` in the already-loaded library `soname`, or null (never loads anything).
-pub fn symbol_in_loaded(soname: &CStr, name: *const c_char) -> *const c_void {
+pub(crate) fn symbol_in_loaded(soname: &CStr, name: &CStr) -> *const c_void {
     let open = resolve(&REAL_DLOPEN, c"dlopen");
     if open == 0 {
         return core::ptr::null();
     }
-    // SAFETY: `open` is glibc's dlopen; RTLD_NOLOAD never loads or runs constructors.
-    let open: unsafe extern "C" fn(*const c_char, c_int) -> *mut c_void = unsafe { core::mem::transmute(open) };
+    type Dlopen = unsafe extern "C" fn(*const c_char, c_int) -> *mut c_void;
+    // SAFETY: `open` is glibc's dlopen, which has this signature.
+    let open = unsafe { core::mem::transmute::<usize, Dlopen>(open) };
+    // SAFETY: a NUL-terminated soname; RTLD_NOLOAD never loads or runs constructors.
     let h = unsafe { open(soname.as_ptr(), libc::RTLD_NOLOAD | libc::RTLD_LAZY) };
     if h.is_null() {
         return core::ptr::null();
     }
-    let p = real_dlsym(h, name);
+    // SAFETY: `h` was just returned by dlopen and is closed only below.
+    let p = unsafe { real_dlsym(h, name) };
     // SAFETY: balances the reference count taken by the NOLOAD open above.
     unsafe { libc::dlclose(h) };
     p
 }
 
 /// Our hook for `name` when the real function exists behind `handle`, else null (forward).
-extern "C" fn decide_dlsym(handle: *mut c_void, name: *const c_char) -> *const c_void {
-    resolve(&REAL_DLSYM, c"dlsym");
+///
+/// # Safety
+/// Called only by `dlsym` below, with its caller's arguments (dlsym's contract: `handle` a
+/// valid handle or pseudo-handle, `name` NUL-terminated or null).
+unsafe extern "C" fn decide_dlsym(handle: *mut c_void, name: *const c_char) -> *const c_void {
+    require(&REAL_DLSYM, c"dlsym");
+    if name.is_null() {
+        return core::ptr::null();
+    }
+    // SAFETY: dlsym's contract: a NUL-terminated symbol name.
+    let name = unsafe { CStr::from_ptr(name) };
     let Some(id) = super::find(name) else {
         return core::ptr::null();
     };
     std::panic::catch_unwind(|| {
-        let real = real_dlsym(handle, name);
+        // SAFETY: the app's own handle, valid by dlsym's contract.
+        let real = unsafe { real_dlsym(handle, name) };
         if real.is_null() {
             return core::ptr::null();
         }
@@ -90,12 +161,15 @@ extern "C" fn decide_dlsym(handle: *mut c_void, name: *const c_char) -> *const c
 
 /// The flags the real `dlopen` gets: `RTLD_DEEPBIND` is dropped for GL libraries, because a
 /// deep-bound libGL would resolve its own entry points past our preloaded hooks.
-extern "C" fn decide_dlopen(file: *const c_char, flags: c_int) -> c_int {
-    resolve(&REAL_DLOPEN, c"dlopen");
+///
+/// # Safety
+/// Called only by `dlopen` below, with its caller's arguments (`file` NUL-terminated or null).
+unsafe extern "C" fn decide_dlopen(file: *const c_char, flags: c_int) -> c_int {
+    require(&REAL_DLOPEN, c"dlopen");
     if flags & libc::RTLD_DEEPBIND == 0 || file.is_null() {
         return flags;
     }
-    // SAFETY: dlopen callers pass a NUL-terminated path.
+    // SAFETY: dlopen's contract: a NUL-terminated path.
     let path = unsafe { CStr::from_ptr(file) }.to_bytes();
     let base = path.rsplit(|&b| b == b'/').next().unwrap_or(path);
     let gl = [
@@ -130,6 +204,7 @@ pub unsafe extern "C" fn dlsym(handle: *mut c_void, name: *const c_char) -> *mut
         "jz 2f",
         "ret",
         "2:",
+        // Never 0: `decide_dlsym` aborted if the real dlsym could not be found.
         "jmp qword ptr [rip + {real}]",
         decide = sym decide_dlsym,
         real = sym REAL_DLSYM,
@@ -151,8 +226,44 @@ pub unsafe extern "C" fn dlopen(file: *const c_char, flags: c_int) -> *mut c_voi
         "pop rsi",
         "pop rdi",
         "mov esi, eax",
+        // Never 0: `decide_dlopen` aborted if the real dlopen could not be found.
         "jmp qword ptr [rip + {real}]",
         decide = sym decide_dlopen,
         real = sym REAL_DLOPEN,
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_symbol_glibc_lacks_is_missing_not_address_zero() {
+        let slot = AtomicUsize::new(0);
+        assert_eq!(resolve(&slot, c"holoinject_no_such_function"), 0);
+        assert_eq!(
+            resolve_required(&slot, c"holoinject_no_such_function"),
+            Err(Missing(c"holoinject_no_such_function"))
+        );
+        assert_eq!(slot.load(Ordering::Relaxed), 0, "nothing cached");
+    }
+
+    #[test]
+    fn the_real_dlsym_and_dlopen_are_found() {
+        for name in [c"dlsym", c"dlopen"] {
+            let slot = AtomicUsize::new(0);
+            let f = resolve_required(&slot, name).expect("glibc has it");
+            assert_eq!(slot.load(Ordering::Relaxed), f, "cached");
+            assert_ne!(f, dlsym as *const () as usize, "ours is not the real one");
+        }
+    }
+
+    #[test]
+    fn the_fatal_line_names_the_function_and_versions() {
+        let mut buf = [0u8; 128];
+        assert_eq!(
+            Missing(c"dlsym").line(&mut buf),
+            b"holoinject: fatal: cannot find the real dlsym (GLIBC_2.34 / GLIBC_2.2.5)\n"
+        );
+    }
 }

@@ -7,14 +7,16 @@
 //! turns itself into pass-through (`is_active() == false`) and logs once, because a handler
 //! that panicked may have left our shadow state inconsistent with the app's GL state.
 
-use core::ffi::{CStr, c_char, c_void};
+use core::ffi::{CStr, c_void};
 use std::sync::atomic::{AtomicBool, Ordering};
 
 pub mod dl;
-pub mod handlers;
+pub(crate) mod handlers;
 pub mod real;
 
-#[allow(unsafe_op_in_unsafe_fn, clippy::all)]
+// Generated: its unsafe blocks are the shims' calls of the real functions, one pattern
+// documented once in build.rs (`gen_shim`).
+#[allow(unsafe_op_in_unsafe_fn, clippy::all, clippy::undocumented_unsafe_blocks)]
 mod exports {
     include!(concat!(env!("OUT_DIR"), "/hooks.rs"));
 }
@@ -69,12 +71,8 @@ pub fn handler_panicked(id: usize) {
 }
 
 /// Finds a hook by C name without allocating (this runs inside `dlsym`).
-pub fn find(name: *const c_char) -> Option<usize> {
-    if name.is_null() {
-        return None;
-    }
-    // SAFETY: callers of dlsym/GetProcAddress pass NUL-terminated strings.
-    let bytes = unsafe { CStr::from_ptr(name) }.to_bytes();
+pub fn find(name: &CStr) -> Option<usize> {
+    let bytes = name.to_bytes();
     let first = *bytes.first()?;
     if first != b'g' && first != b'e' && first != b'O' {
         return None;
@@ -100,5 +98,19 @@ pub fn fail_point(id: usize) {
             "HOLOINJECT_TEST_FAIL: forced failure in {}",
             HOOKS[id].name.to_string_lossy()
         );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{HOOKS, find};
+
+    #[test]
+    fn finds_hooks_by_exact_name() {
+        let id = find(c"glDrawArrays").expect("a hooked name");
+        assert_eq!(HOOKS[id].name, c"glDrawArrays");
+        assert_eq!(find(c""), None);
+        assert_eq!(find(c"glDrawArraysX"), None);
+        assert_eq!(find(c"dlsym"), None);
     }
 }

@@ -315,8 +315,9 @@ fn set_fragcoord(gl: &Gl, mv: &Multiview, loc: i32, tile: Option<(QuiltLayout, u
 
 /// The tile loop: viewport and scissor mapped into each view's tile.
 fn draw_tiles(gl: &Gl, mv: &Multiview, layout: QuiltLayout, set_view: impl Fn(&Multiview, u32), f: &impl Fn(u32)) {
-    // SAFETY: viewport and scissor changes below are restored after the loop.
+    // SAFETY: a capability query, valid in every context.
     let scissored = unsafe { gl.IsEnabled(SCISSOR_TEST) } != 0;
+    // SAFETY: the scissor test, viewport and scissor changed here are restored after the loop.
     unsafe { gl.Enable(SCISSOR_TEST) };
     for i in 0..layout.views() {
         let vp = layout.map_rect(i, mv.app.viewport);
@@ -326,6 +327,7 @@ fn draw_tiles(gl: &Gl, mv: &Multiview, layout: QuiltLayout, set_view: impl Fn(&M
         } else {
             tile
         };
+        // SAFETY: as above: restored after the loop.
         unsafe {
             gl.Viewport(vp[0], vp[1], vp[2], vp[3]);
             gl.Scissor(sc[0], sc[1], sc[2], sc[3]);
@@ -334,6 +336,7 @@ fn draw_tiles(gl: &Gl, mv: &Multiview, layout: QuiltLayout, set_view: impl Fn(&M
         f(i);
     }
     let (v, s) = (mv.app.viewport, mv.app.scissor);
+    // SAFETY: the app's viewport, scissor and scissor test back.
     unsafe {
         gl.Viewport(v[0], v[1], v[2], v[3]);
         gl.Scissor(s[0], s[1], s[2], s[3]);
@@ -360,10 +363,10 @@ fn load_projection(gl: &Gl, m: &[f32; 16], app_mode: Option<u32>) {
 
 /// The program's view uniform now holds the last view's shift, not the centre's.
 fn finish_shift(mv: &Multiview, shift: &Shift, group: &ShareGroup) {
-    if let Shift::Uniform { .. } = shift {
-        if let Some(p) = group.lock().programs.get_mut(&mv.program) {
-            p.centre_set = false;
-        }
+    if let Shift::Uniform { .. } = shift
+        && let Some(p) = group.lock().programs.get_mut(&mv.program)
+    {
+        p.centre_set = false;
     }
 }
 

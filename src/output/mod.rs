@@ -27,14 +27,14 @@ pub fn frame_boundary(surface: usize, present: impl FnOnce()) {
     if settings.multiview() {
         multiview_frame(frame, surface, settings);
     }
-    if settings.dumps(frame) {
-        if let Err(e) = dump::presented(frame, surface, settings) {
-            crate::log::once(
-                &DUMP_FAILED,
-                crate::log::Level::Error,
-                format_args!("frame {frame} not dumped: {e}"),
-            );
-        }
+    if settings.dumps(frame)
+        && let Err(e) = dump::presented(frame, surface, settings)
+    {
+        crate::log::once(
+            &DUMP_FAILED,
+            crate::log::Level::Error,
+            format_args!("frame {frame} not dumped: {e}"),
+        );
     }
     present();
     if settings.exit_after == Some(frame) {
@@ -51,26 +51,27 @@ fn multiview_frame(frame: u64, surface: usize, settings: &crate::config::Setting
             return;
         }
         let Some(window) = surface::size(cur) else { return };
-        if settings.dumps(frame) {
-            if let Err(e) = dump::quilt(frame, gl, mv, settings) {
-                crate::log::once(
-                    &DUMP_FAILED,
-                    crate::log::Level::Error,
-                    format_args!("quilt of frame {frame} not dumped: {e}"),
-                );
-            }
+        if settings.dumps(frame)
+            && let Err(e) = dump::quilt(frame, gl, mv, settings)
+        {
+            crate::log::once(
+                &DUMP_FAILED,
+                crate::log::Level::Error,
+                format_args!("quilt of frame {frame} not dumped: {e}"),
+            );
         }
         if let Err(e) = compose::present(gl, mv, window, settings.view.output) {
             crate::log::once(&COMPOSE_FAILED, crate::log::Level::Error, format_args!("{e}"));
         }
-        if settings.dumps(frame) && settings.view.output == crate::config::Output::Native {
-            if let Err(e) = dump::native(frame, gl, mv, settings) {
-                crate::log::once(
-                    &DUMP_FAILED,
-                    crate::log::Level::Error,
-                    format_args!("native image of frame {frame} not dumped: {e}"),
-                );
-            }
+        if settings.dumps(frame)
+            && settings.view.output == crate::config::Output::Native
+            && let Err(e) = dump::native(frame, gl, mv, settings)
+        {
+            crate::log::once(
+                &DUMP_FAILED,
+                crate::log::Level::Error,
+                format_args!("native image of frame {frame} not dumped: {e}"),
+            );
         }
         crate::multiview::update_convergence(gl, mv);
         crate::multiview::framebuffer::ensure_target(gl, mv, window);

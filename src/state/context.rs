@@ -107,7 +107,8 @@ impl Context {
                 }
                 let gl = Gl::load_with(|name| {
                     let name = std::ffi::CString::new(name).unwrap_or_default();
-                    real::via_loader(loader, &name)
+                    // SAFETY: `loader` is the platform's real `*GetProcAddress` (non-null here).
+                    unsafe { real::via_loader(loader, &name) }
                 });
                 let info = version_string(&gl).map(|v| GlInfo::parse(&v))?;
                 crate::log::info(format_args!("context {:#x}: {info:?}", self.handle));
@@ -122,7 +123,8 @@ impl Context {
         if !p.is_null() {
             return p;
         }
-        let p = real::via_loader(self.loader(), HOOKS[id].name);
+        // SAFETY: `loader()` is the platform's real `*GetProcAddress`, or null.
+        let p = unsafe { real::via_loader(self.loader(), HOOKS[id].name) };
         self.real[id].store(p as *mut c_void, Ordering::Release);
         p
     }
@@ -157,6 +159,7 @@ fn version_string(gl: &Gl) -> Option<String> {
     if p.is_null() {
         return None;
     }
+    // SAFETY: glGetString answers a static NUL-terminated string.
     Some(unsafe { CStr::from_ptr(p.cast()) }.to_string_lossy().into_owned())
 }
 

@@ -5,7 +5,7 @@ use crate::gl::types::*;
 use crate::multiview::ubo::buffers_changed;
 use core::ffi::c_void;
 
-pub fn glBufferData(
+pub(crate) fn glBufferData(
     real: impl Fn(GLenum, GLsizeiptr, *const c_void, GLenum),
     t: GLenum,
     n: GLsizeiptr,
@@ -16,7 +16,7 @@ pub fn glBufferData(
     buffers_changed();
 }
 
-pub fn glBufferSubData(
+pub(crate) fn glBufferSubData(
     real: impl Fn(GLenum, GLintptr, GLsizeiptr, *const c_void),
     t: GLenum,
     o: GLintptr,
@@ -27,7 +27,7 @@ pub fn glBufferSubData(
     buffers_changed();
 }
 
-pub fn glNamedBufferSubData(
+pub(crate) fn glNamedBufferSubData(
     real: impl Fn(GLuint, GLintptr, GLsizeiptr, *const c_void),
     b: GLuint,
     o: GLintptr,
@@ -38,19 +38,19 @@ pub fn glNamedBufferSubData(
     buffers_changed();
 }
 
-pub fn glUnmapBuffer(real: impl Fn(GLenum) -> GLboolean, t: GLenum) -> GLboolean {
+pub(crate) fn glUnmapBuffer(real: impl Fn(GLenum) -> GLboolean, t: GLenum) -> GLboolean {
     let r = real(t);
     buffers_changed();
     r
 }
 
-pub fn glUnmapNamedBuffer(real: impl Fn(GLuint) -> GLboolean, b: GLuint) -> GLboolean {
+pub(crate) fn glUnmapNamedBuffer(real: impl Fn(GLuint) -> GLboolean, b: GLuint) -> GLboolean {
     let r = real(b);
     buffers_changed();
     r
 }
 
-pub fn glCopyBufferSubData(
+pub(crate) fn glCopyBufferSubData(
     real: impl Fn(GLenum, GLenum, GLintptr, GLintptr, GLsizeiptr),
     r: GLenum,
     w: GLenum,
@@ -62,12 +62,12 @@ pub fn glCopyBufferSubData(
     buffers_changed();
 }
 
-pub fn glBindBufferBase(real: impl Fn(GLenum, GLuint, GLuint), t: GLenum, i: GLuint, b: GLuint) {
+pub(crate) fn glBindBufferBase(real: impl Fn(GLenum, GLuint, GLuint), t: GLenum, i: GLuint, b: GLuint) {
     real(t, i, b);
     buffers_changed();
 }
 
-pub fn glBindBufferRange(
+pub(crate) fn glBindBufferRange(
     real: impl Fn(GLenum, GLuint, GLuint, GLintptr, GLsizeiptr),
     t: GLenum,
     i: GLuint,

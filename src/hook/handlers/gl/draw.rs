@@ -6,7 +6,7 @@ use core::ffi::c_void;
 /// `name(args)` → a handler that replays the real call per view.
 macro_rules! per_view_draws {
     ($($name:ident($($arg:ident: $ty:ty),*);)*) => {$(
-        pub fn $name(real: impl Fn($($ty),*), $($arg: $ty),*) {
+        pub(crate) fn $name(real: impl Fn($($ty),*), $($arg: $ty),*) {
             super::per_view(|| real($($arg),*))
         }
     )*};

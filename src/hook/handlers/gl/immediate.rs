@@ -7,12 +7,12 @@
 use crate::gl::types::*;
 use crate::multiview::with_active;
 
-pub fn glBegin(real: impl Fn(GLenum), mode: GLenum) {
+pub(crate) fn glBegin(real: impl Fn(GLenum), mode: GLenum) {
     with_active(|_, mv, gl| crate::multiview::immediate::begin(gl, mv));
     real(mode)
 }
 
-pub fn glEnd(real: impl Fn()) {
+pub(crate) fn glEnd(real: impl Fn()) {
     real();
     let list = with_active(|_, mv, gl| crate::multiview::immediate::end(gl, mv)).flatten();
     if let Some(list) = list {
@@ -20,22 +20,22 @@ pub fn glEnd(real: impl Fn()) {
     }
 }
 
-pub fn glNewList(real: impl Fn(GLuint, GLenum), list: GLuint, mode: GLenum) {
+pub(crate) fn glNewList(real: impl Fn(GLuint, GLenum), list: GLuint, mode: GLenum) {
     with_active(|_, mv, _| mv.compiling_list = true);
     real(list, mode)
 }
 
-pub fn glEndList(real: impl Fn()) {
+pub(crate) fn glEndList(real: impl Fn()) {
     real();
     with_active(|_, mv, _| mv.compiling_list = false);
 }
 
-pub fn glBeginTransformFeedback(real: impl Fn(GLenum), mode: GLenum) {
+pub(crate) fn glBeginTransformFeedback(real: impl Fn(GLenum), mode: GLenum) {
     with_active(|_, mv, _| mv.transform_feedback = true);
     real(mode)
 }
 
-pub fn glEndTransformFeedback(real: impl Fn()) {
+pub(crate) fn glEndTransformFeedback(real: impl Fn()) {
     real();
     with_active(|_, mv, _| mv.transform_feedback = false);
 }

@@ -11,16 +11,16 @@ mod query;
 mod raster;
 mod texture;
 
-pub use buffer::*;
-pub use draw::*;
-pub use frame::*;
-pub use framebuffer::*;
-pub use immediate::*;
-pub use introspection::*;
-pub use program::*;
-pub use query::*;
-pub use raster::*;
-pub use texture::*;
+pub(crate) use buffer::*;
+pub(crate) use draw::*;
+pub(crate) use frame::*;
+pub(crate) use framebuffer::*;
+pub(crate) use immediate::*;
+pub(crate) use introspection::*;
+pub(crate) use program::*;
+pub(crate) use query::*;
+pub(crate) use raster::*;
+pub(crate) use texture::*;
 
 /// Replays `f` once per view when multiview applies to the current draw, else calls it once.
 fn per_view(f: impl Fn()) {

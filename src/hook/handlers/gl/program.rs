@@ -3,7 +3,7 @@
 use crate::gl::types::*;
 use crate::multiview::with_active;
 
-pub fn glLinkProgram(real: impl Fn(GLuint), program: GLuint) {
+pub(crate) fn glLinkProgram(real: impl Fn(GLuint), program: GLuint) {
     if !crate::config::settings().multiview() {
         return real(program);
     }
@@ -18,13 +18,13 @@ pub fn glLinkProgram(real: impl Fn(GLuint), program: GLuint) {
     }
 }
 
-pub fn glUseProgram(real: impl Fn(GLuint), program: GLuint) {
+pub(crate) fn glUseProgram(real: impl Fn(GLuint), program: GLuint) {
     with_active(|_, mv, _| mv.program = program);
     real(program)
 }
 
 /// The app replaced a shader's source: what we stored about its old one no longer applies.
-pub fn glShaderSource(
+pub(crate) fn glShaderSource(
     real: impl Fn(GLuint, GLsizei, *const *const GLchar, *const GLint),
     shader: GLuint,
     count: GLsizei,
@@ -35,10 +35,8 @@ pub fn glShaderSource(
     crate::state::with_current(|cur| cur.map(|c| c.ctx.group.lock().original_sources.remove(&shader)));
 }
 
-fn column_major(value: *const GLfloat, transpose: GLboolean) -> [f32; 16] {
-    let mut m = [0f32; 16];
-    // SAFETY: the app passes at least one 4x4 matrix.
-    m.copy_from_slice(unsafe { std::slice::from_raw_parts(value, 16) });
+fn column_major(value: &[f32; 16], transpose: GLboolean) -> [f32; 16] {
+    let mut m = *value;
     if transpose != 0 {
         let t = m;
         for r in 0..4 {
@@ -50,15 +48,24 @@ fn column_major(value: *const GLfloat, transpose: GLboolean) -> [f32; 16] {
     m
 }
 
-fn track_matrix(program: u32, loc: GLint, count: GLsizei, transpose: GLboolean, value: *const GLfloat) {
-    if loc < 0 || count < 1 || value.is_null() {
+/// The first matrix of a `glUniformMatrix4fv`-style upload.
+///
+/// # Safety
+/// `value` is null or points to `count` 4x4 matrices, as those calls require.
+unsafe fn first_matrix<'a>(value: *const GLfloat, count: GLsizei) -> Option<&'a [f32; 16]> {
+    // SAFETY: `count` matrices of 16 floats each, as the caller guarantees.
+    unsafe { super::super::app_slice(value, count.saturating_mul(16)) }.first_chunk::<16>()
+}
+
+fn track_matrix(program: u32, loc: GLint, transpose: GLboolean, value: Option<&[f32; 16]>) {
+    let Some(value) = value.filter(|_| loc >= 0) else {
         return;
-    }
+    };
     let m = column_major(value, transpose);
     crate::state::with_current(|cur| cur.map(|c| c.ctx.group.lock().matrices.insert((program, loc), m)));
 }
 
-pub fn glUniformMatrix4fv(
+pub(crate) fn glUniformMatrix4fv(
     real: impl Fn(GLint, GLsizei, GLboolean, *const GLfloat),
     loc: GLint,
     count: GLsizei,
@@ -66,12 +73,14 @@ pub fn glUniformMatrix4fv(
     value: *const GLfloat,
 ) {
     real(loc, count, transpose, value);
+    // SAFETY: glUniformMatrix4fv reads `count` matrices from `value`.
+    let first = unsafe { first_matrix(value, count) };
     if let Some(program) = with_active(|_, mv, _| mv.program) {
-        track_matrix(program, loc, count, transpose, value);
+        track_matrix(program, loc, transpose, first);
     }
 }
 
-pub fn glProgramUniformMatrix4fv(
+pub(crate) fn glProgramUniformMatrix4fv(
     real: impl Fn(GLuint, GLint, GLsizei, GLboolean, *const GLfloat),
     program: GLuint,
     loc: GLint,
@@ -80,7 +89,9 @@ pub fn glProgramUniformMatrix4fv(
     value: *const GLfloat,
 ) {
     real(program, loc, count, transpose, value);
+    // SAFETY: glProgramUniformMatrix4fv reads `count` matrices from `value`.
+    let first = unsafe { first_matrix(value, count) };
     if crate::config::settings().multiview() {
-        track_matrix(program, loc, count, transpose, value);
+        track_matrix(program, loc, transpose, first);
     }
 }

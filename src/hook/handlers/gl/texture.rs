@@ -2,12 +2,13 @@
 //! substitution needs, and every call that makes a shadow stale (re-attachment, new storage,
 //! deletion) or needs mirroring (mipmaps).
 
+use super::super::app_slice;
 use crate::gl::types::*;
 use crate::multiview::layers::forget;
 use crate::multiview::with_active;
 use core::ffi::c_void;
 
-pub fn glActiveTexture(real: impl Fn(GLenum), texture: GLenum) {
+pub(crate) fn glActiveTexture(real: impl Fn(GLenum), texture: GLenum) {
     with_active(|_, mv, _| mv.units.active = texture.wrapping_sub(crate::gl::TEXTURE0));
     real(texture)
 }
@@ -21,7 +22,7 @@ fn with_group(f: impl FnOnce(&crate::state::ShareGroup)) {
     }
 }
 
-pub fn glBindTexture(real: impl Fn(GLenum, GLuint), target: GLenum, texture: GLuint) {
+pub(crate) fn glBindTexture(real: impl Fn(GLenum, GLuint), target: GLenum, texture: GLuint) {
     if texture != 0 {
         with_group(|g| g.textures.bound(target, texture));
     }
@@ -31,42 +32,42 @@ pub fn glBindTexture(real: impl Fn(GLenum, GLuint), target: GLenum, texture: GLu
     real(target, texture)
 }
 
-pub fn glCreateTextures(
+pub(crate) fn glCreateTextures(
     real: impl Fn(GLenum, GLsizei, *mut GLuint),
     target: GLenum,
     n: GLsizei,
     textures: *mut GLuint,
 ) {
     real(target, n, textures);
-    with_group(|g| g.textures.created(target, names(n, textures)));
+    // SAFETY: `textures` has room for `n` names, which glCreateTextures has just written (with
+    // an invalid target it writes none, and we record what the app's array held: integers).
+    let made = unsafe { app_slice(textures, n) };
+    with_group(|g| g.textures.created(target, made));
 }
 
-pub fn glBindTextureUnit(real: impl Fn(GLuint, GLuint), unit: GLuint, texture: GLuint) {
+pub(crate) fn glBindTextureUnit(real: impl Fn(GLuint, GLuint), unit: GLuint, texture: GLuint) {
     with_active(|_, mv, _| mv.units.bind(unit, texture));
     real(unit, texture)
 }
 
-pub fn glBindTextures(
+pub(crate) fn glBindTextures(
     real: impl Fn(GLuint, GLsizei, *const GLuint),
     first: GLuint,
     count: GLsizei,
     textures: *const GLuint,
 ) {
+    // SAFETY: glBindTextures reads `count` names from `textures`, or none when it is NULL
+    // (which unbinds them all).
+    let names = unsafe { app_slice(textures, count) };
     with_active(|_, mv, _| {
         for i in 0..count.max(0) as u32 {
-            // SAFETY: the app passes `count` names, or NULL to unbind them all.
-            let t = if textures.is_null() {
-                0
-            } else {
-                unsafe { *textures.add(i as usize) }
-            };
-            mv.units.bind(first + i, t);
+            mv.units.bind(first + i, names.get(i as usize).copied().unwrap_or(0));
         }
     });
     real(first, count, textures)
 }
 
-pub fn glGenerateMipmap(real: impl Fn(GLenum), target: GLenum) {
+pub(crate) fn glGenerateMipmap(real: impl Fn(GLenum), target: GLenum) {
     real(target);
     with_active(|_, mv, gl| {
         let tex = mv.units.bound_2d.get(mv.units.active as usize).copied().unwrap_or(0);
@@ -88,8 +89,7 @@ fn storage_changed(renderbuffer: bool, binding: GLenum) {
     });
 }
 
-#[allow(clippy::too_many_arguments)]
-pub fn glTexImage2D(
+pub(crate) fn glTexImage2D(
     real: impl Fn(GLenum, GLint, GLint, GLsizei, GLsizei, GLint, GLenum, GLenum, *const c_void),
     target: GLenum,
     level: GLint,
@@ -107,7 +107,7 @@ pub fn glTexImage2D(
     }
 }
 
-pub fn glTexStorage2D(
+pub(crate) fn glTexStorage2D(
     real: impl Fn(GLenum, GLsizei, GLenum, GLsizei, GLsizei),
     target: GLenum,
     levels: GLsizei,
@@ -121,7 +121,7 @@ pub fn glTexStorage2D(
     }
 }
 
-pub fn glRenderbufferStorage(
+pub(crate) fn glRenderbufferStorage(
     real: impl Fn(GLenum, GLenum, GLsizei, GLsizei),
     target: GLenum,
     format: GLenum,
@@ -132,7 +132,7 @@ pub fn glRenderbufferStorage(
     storage_changed(true, crate::gl::RENDERBUFFER_BINDING);
 }
 
-pub fn glRenderbufferStorageMultisample(
+pub(crate) fn glRenderbufferStorageMultisample(
     real: impl Fn(GLenum, GLsizei, GLenum, GLsizei, GLsizei),
     target: GLenum,
     samples: GLsizei,
@@ -166,7 +166,7 @@ fn reattached(target: GLenum, attachment: GLenum, name: u32, renderbuffer: bool)
     });
 }
 
-pub fn glFramebufferTexture2D(
+pub(crate) fn glFramebufferTexture2D(
     real: impl Fn(GLenum, GLenum, GLenum, GLuint, GLint),
     target: GLenum,
     att: GLenum,
@@ -178,7 +178,7 @@ pub fn glFramebufferTexture2D(
     reattached(target, att, tex, false);
 }
 
-pub fn glFramebufferTexture(
+pub(crate) fn glFramebufferTexture(
     real: impl Fn(GLenum, GLenum, GLuint, GLint),
     target: GLenum,
     att: GLenum,
@@ -189,7 +189,7 @@ pub fn glFramebufferTexture(
     reattached(target, att, tex, false);
 }
 
-pub fn glFramebufferRenderbuffer(
+pub(crate) fn glFramebufferRenderbuffer(
     real: impl Fn(GLenum, GLenum, GLenum, GLuint),
     target: GLenum,
     att: GLenum,
@@ -200,17 +200,10 @@ pub fn glFramebufferRenderbuffer(
     reattached(target, att, rb, true);
 }
 
-fn names<'a>(n: GLsizei, p: *const GLuint) -> &'a [GLuint] {
-    if p.is_null() || n <= 0 {
-        return &[];
-    }
-    // SAFETY: the app passes `n` names.
-    unsafe { std::slice::from_raw_parts(p, n as usize) }
-}
-
-pub fn glDeleteFramebuffers(real: impl Fn(GLsizei, *const GLuint), n: GLsizei, fbos: *const GLuint) {
+pub(crate) fn glDeleteFramebuffers(real: impl Fn(GLsizei, *const GLuint), n: GLsizei, fbos: *const GLuint) {
+    // SAFETY: glDeleteFramebuffers reads `n` names from `fbos`.
+    let gone = unsafe { app_slice(fbos, n) };
     with_active(|_, mv, gl| {
-        let gone = names(n, fbos);
         gone.iter().for_each(|f| {
             mv.unshadowable.remove(f);
             mv.has_color.remove(f);
@@ -220,10 +213,11 @@ pub fn glDeleteFramebuffers(real: impl Fn(GLsizei, *const GLuint), n: GLsizei, f
     real(n, fbos)
 }
 
-pub fn glDeleteTextures(real: impl Fn(GLsizei, *const GLuint), n: GLsizei, textures: *const GLuint) {
-    with_group(|g| g.textures.deleted(names(n, textures)));
+pub(crate) fn glDeleteTextures(real: impl Fn(GLsizei, *const GLuint), n: GLsizei, textures: *const GLuint) {
+    // SAFETY: glDeleteTextures reads `n` names from `textures`.
+    let gone = unsafe { app_slice(textures, n) };
+    with_group(|g| g.textures.deleted(gone));
     with_active(|_, mv, gl| {
-        let gone = names(n, textures);
         forget(gl, mv, |_, s| gone.iter().any(|&t| s.owns(t, false)));
         mv.units
             .bound_2d
@@ -234,9 +228,10 @@ pub fn glDeleteTextures(real: impl Fn(GLsizei, *const GLuint), n: GLsizei, textu
     real(n, textures)
 }
 
-pub fn glDeleteRenderbuffers(real: impl Fn(GLsizei, *const GLuint), n: GLsizei, rbs: *const GLuint) {
+pub(crate) fn glDeleteRenderbuffers(real: impl Fn(GLsizei, *const GLuint), n: GLsizei, rbs: *const GLuint) {
+    // SAFETY: glDeleteRenderbuffers reads `n` names from `rbs`.
+    let gone = unsafe { app_slice(rbs, n) };
     with_active(|_, mv, gl| {
-        let gone = names(n, rbs);
         forget(gl, mv, |_, s| gone.iter().any(|&r| s.owns(r, true)));
     });
     real(n, rbs)
@@ -244,11 +239,11 @@ pub fn glDeleteRenderbuffers(real: impl Fn(GLsizei, *const GLuint), n: GLsizei, 
 
 // EXT_framebuffer_object spellings: identical semantics.
 
-pub fn glGenerateMipmapEXT(real: impl Fn(GLenum), target: GLenum) {
+pub(crate) fn glGenerateMipmapEXT(real: impl Fn(GLenum), target: GLenum) {
     glGenerateMipmap(real, target)
 }
 
-pub fn glFramebufferTexture2DEXT(
+pub(crate) fn glFramebufferTexture2DEXT(
     real: impl Fn(GLenum, GLenum, GLenum, GLuint, GLint),
     target: GLenum,
     att: GLenum,
@@ -259,7 +254,7 @@ pub fn glFramebufferTexture2DEXT(
     glFramebufferTexture2D(real, target, att, textarget, tex, level)
 }
 
-pub fn glFramebufferRenderbufferEXT(
+pub(crate) fn glFramebufferRenderbufferEXT(
     real: impl Fn(GLenum, GLenum, GLenum, GLuint),
     target: GLenum,
     att: GLenum,
@@ -269,7 +264,7 @@ pub fn glFramebufferRenderbufferEXT(
     glFramebufferRenderbuffer(real, target, att, rbt, rb)
 }
 
-pub fn glRenderbufferStorageEXT(
+pub(crate) fn glRenderbufferStorageEXT(
     real: impl Fn(GLenum, GLenum, GLsizei, GLsizei),
     target: GLenum,
     format: GLenum,
@@ -279,10 +274,10 @@ pub fn glRenderbufferStorageEXT(
     glRenderbufferStorage(real, target, format, w, h)
 }
 
-pub fn glDeleteFramebuffersEXT(real: impl Fn(GLsizei, *const GLuint), n: GLsizei, fbos: *const GLuint) {
+pub(crate) fn glDeleteFramebuffersEXT(real: impl Fn(GLsizei, *const GLuint), n: GLsizei, fbos: *const GLuint) {
     glDeleteFramebuffers(real, n, fbos)
 }
 
-pub fn glDeleteRenderbuffersEXT(real: impl Fn(GLsizei, *const GLuint), n: GLsizei, rbs: *const GLuint) {
+pub(crate) fn glDeleteRenderbuffersEXT(real: impl Fn(GLsizei, *const GLuint), n: GLsizei, rbs: *const GLuint) {
     glDeleteRenderbuffers(real, n, rbs)
 }
