@@ -208,6 +208,11 @@ fn types_path(api: &str) -> &'static str {
     }
 }
 
+/// One exported shim. Safety, for all of them (the generated module is exempt from
+/// `clippy::undocumented_unsafe_blocks`): the shim has the contract of the entry point it
+/// replaces; `p` is the real function of the same name, hence signature; every `real(..)`
+/// call passes either the app's own arguments or, from a handler, arguments the handler
+/// vouches for (the app's, or objects and arrays of its own).
 fn gen_shim(id: usize, e: &Entry) -> String {
     let params: Vec<String> = e.params.iter().map(|(n, t)| format!("{n}: {t}")).collect();
     let tys: Vec<&str> = e.params.iter().map(|(_, t)| t.as_str()).collect();

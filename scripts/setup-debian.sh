@@ -32,4 +32,13 @@ if ! command -v cargo >/dev/null; then
   echo "setup: Rust is missing: install it with rustup (https://rustup.rs); Debian's cargo is too old for edition 2024" >&2
   exit 1
 fi
+# scripts/test.sh runs clippy and rustfmt before the tests.
+if ! cargo clippy --version >/dev/null 2>&1 || ! cargo fmt --version >/dev/null 2>&1; then
+  if ! command -v rustup >/dev/null; then
+    echo "setup: cargo clippy or cargo fmt is missing and there is no rustup to add them: install your toolchain's clippy and rustfmt" >&2
+    exit 1
+  fi
+  echo "setup: adding the clippy and rustfmt components" >&2
+  rustup component add clippy rustfmt
+fi
 echo "setup: ok ($(cargo --version))" >&2

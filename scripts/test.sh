@@ -1,9 +1,12 @@
 #!/usr/bin/env bash
-# Builds everything (layer, launcher, sample apps) and runs every test headless: unit tests,
-# launcher tests, sample apps on GLX (Xvfb), EGL and OSMesa, and real Debian programs.
+# Checks formatting and lints (clippy, warnings as errors), builds everything (layer, launcher,
+# sample apps) and runs every test headless: unit tests, launcher tests, sample apps on GLX
+# (Xvfb), EGL and OSMesa, and real Debian programs.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export ALSOFT_DRIVERS=null
+cargo fmt --all --check
+cargo clippy --workspace --release --locked -- -D warnings
 # The layering of DESIGN §2: the module graph must stay acyclic.
 scripts/module-graph.sh >/dev/null
 cargo build --workspace --release --locked

@@ -67,6 +67,15 @@
 //! - Every GL state the layer changes is restored before returning to the app
 //!   (`gl::guard::StateGuard`, `gl::readback`).
 //! - Nothing on stdout; stderr only at `HOLOINJECT_LOG` level (default `warn`).
+//! - GL may call the app back from inside any real call (a synchronous debug callback), and
+//!   the app may call GL from there: a hook re-entered while its own thread holds the
+//!   context's multiview lock passes straight through (`state::lock`); the share-group lock
+//!   is never held across a GL call.
+//! - Raw pointers stop at the handlers (`hook::handlers`), which make slices and `&CStr`s of
+//!   the app's arguments; every `unsafe` block says why it is sound.
+
+// Every `unsafe` block says why it is sound (generated bindings and shims opt out with `allow`).
+#![deny(clippy::undocumented_unsafe_blocks)]
 
 pub mod camera;
 pub mod config;

@@ -44,7 +44,7 @@ impl FrameSet {
     pub fn contains(&self, frame: u64) -> bool {
         match self {
             FrameSet::List(l) => l.contains(&frame),
-            FrameSet::Every(n) => frame % n == 0,
+            FrameSet::Every(n) => frame.is_multiple_of(*n),
         }
     }
 }

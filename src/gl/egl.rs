@@ -17,6 +17,7 @@ pub type NativeWindowType = *mut c_void;
 
 #[allow(clippy::all, non_upper_case_globals, non_snake_case, non_camel_case_types, dead_code)]
 #[allow(unsafe_op_in_unsafe_fn, unused_imports, missing_docs)]
+#[allow(clippy::undocumented_unsafe_blocks)] // generated
 mod bindings {
     pub use super::{
         EGLNativeDisplayType, EGLNativePixmapType, EGLNativeWindowType, EGLint, NativeDisplayType, NativePixmapType,

@@ -106,10 +106,12 @@ impl<'a> StateGuard<'a> {
         unsafe { gl.GetBooleanv(COLOR_WRITEMASK, mask.as_mut_ptr()) };
         self.saved.push(Saved::ColorMask(mask));
         let mut depth = 0u8;
+        // SAFETY: one-boolean query into a local.
         unsafe { gl.GetBooleanv(DEPTH_WRITEMASK, &mut depth) };
         self.saved.push(Saved::DepthMask(depth));
         if !self.info.es {
             let mut modes = [0i32; 2];
+            // SAFETY: GL_POLYGON_MODE answers two integers (desktop GL only, checked above).
             unsafe { gl.GetIntegerv(POLYGON_MODE, modes.as_mut_ptr()) };
             self.saved.push(Saved::PolygonMode(modes[0]));
         }

@@ -6,6 +6,7 @@
 
 #[allow(clippy::all, non_upper_case_globals, non_snake_case, non_camel_case_types, dead_code)]
 #[allow(unsafe_op_in_unsafe_fn, unused_imports, missing_docs)]
+#[allow(clippy::undocumented_unsafe_blocks)] // generated
 mod bindings {
     include!(concat!(env!("OUT_DIR"), "/gl_bindings.rs"));
 }
@@ -15,6 +16,7 @@ pub use bindings::*;
 /// GLX bindings; `glx::types` holds the X11/GLX types (and the GL ones again).
 #[allow(clippy::all, non_upper_case_globals, non_snake_case, non_camel_case_types, dead_code)]
 #[allow(unsafe_op_in_unsafe_fn, unused_imports, missing_docs)]
+#[allow(clippy::undocumented_unsafe_blocks)] // generated
 pub mod glx {
     include!(concat!(env!("OUT_DIR"), "/glx_bindings.rs"));
 }
@@ -30,6 +32,7 @@ pub struct SharedGl(pub Gl);
 // SAFETY: the table holds only function addresses, valid on every thread; calling them is
 // only done by the thread the context is current on.
 unsafe impl Send for SharedGl {}
+// SAFETY: as for `Send`: shared references only read function addresses.
 unsafe impl Sync for SharedGl {}
 
 impl std::ops::Deref for SharedGl {

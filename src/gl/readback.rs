@@ -117,9 +117,9 @@ fn presented_buffer(gl: &Gl, info: GlInfo) -> Option<GLenum> {
     if info.es {
         return Some(BACK);
     }
-    // SAFETY: binding the default framebuffer for draw only to ask for its draw buffer;
-    // the guard restores the app's binding.
     if info.has_framebuffers() {
+        // SAFETY: binding the default framebuffer for draw only to ask for its draw buffer;
+        // the guard restores the app's binding.
         unsafe { gl.BindFramebuffer(DRAW_FRAMEBUFFER, 0) };
     }
     Some(match get(gl, DRAW_BUFFER) as GLenum {

@@ -13,17 +13,23 @@ use crate::real::{HOOKS, HookApi, dl};
 use core::ffi::{CStr, c_char, c_int, c_void};
 
 /// Our hook for `name` when the real function exists behind `handle`, else null (forward).
-extern "C" fn decide_dlsym(handle: *mut c_void, name: *const c_char) -> *const c_void {
-    dl::resolve(&dl::REAL_DLSYM, c"dlsym");
+///
+/// # Safety
+/// Called only by `dlsym` below, with its caller's arguments (dlsym's contract: `handle` a
+/// valid handle or pseudo-handle, `name` NUL-terminated or null).
+unsafe extern "C" fn decide_dlsym(handle: *mut c_void, name: *const c_char) -> *const c_void {
+    dl::require(&dl::REAL_DLSYM, c"dlsym");
     if name.is_null() {
         return core::ptr::null();
     }
-    // SAFETY: callers of dlsym pass a NUL-terminated name.
-    let Some(id) = crate::real::find(unsafe { CStr::from_ptr(name) }) else {
+    // SAFETY: dlsym's contract: a NUL-terminated symbol name.
+    let name = unsafe { CStr::from_ptr(name) };
+    let Some(id) = crate::real::find(name) else {
         return core::ptr::null();
     };
     std::panic::catch_unwind(|| {
-        let real = dl::real_dlsym(handle, name);
+        // SAFETY: the app's own handle, valid by dlsym's contract.
+        let real = unsafe { dl::real_dlsym(handle, name) };
         if real.is_null() {
             return core::ptr::null();
         }
@@ -41,12 +47,15 @@ extern "C" fn decide_dlsym(handle: *mut c_void, name: *const c_char) -> *const c
 
 /// The flags the real `dlopen` gets: `RTLD_DEEPBIND` is dropped for GL libraries, because a
 /// deep-bound libGL would resolve its own entry points past our preloaded hooks.
-extern "C" fn decide_dlopen(file: *const c_char, flags: c_int) -> c_int {
-    dl::resolve(&dl::REAL_DLOPEN, c"dlopen");
+///
+/// # Safety
+/// Called only by `dlopen` below, with its caller's arguments (`file` NUL-terminated or null).
+unsafe extern "C" fn decide_dlopen(file: *const c_char, flags: c_int) -> c_int {
+    dl::require(&dl::REAL_DLOPEN, c"dlopen");
     if flags & libc::RTLD_DEEPBIND == 0 || file.is_null() {
         return flags;
     }
-    // SAFETY: dlopen callers pass a NUL-terminated path.
+    // SAFETY: dlopen's contract: a NUL-terminated path.
     let path = unsafe { CStr::from_ptr(file) }.to_bytes();
     let base = path.rsplit(|&b| b == b'/').next().unwrap_or(path);
     let gl = [
@@ -81,6 +90,7 @@ pub unsafe extern "C" fn dlsym(handle: *mut c_void, name: *const c_char) -> *mut
         "jz 2f",
         "ret",
         "2:",
+        // Never 0: `decide_dlsym` aborted if the real dlsym could not be found.
         "jmp qword ptr [rip + {real}]",
         decide = sym decide_dlsym,
         real = sym dl::REAL_DLSYM,
@@ -102,8 +112,23 @@ pub unsafe extern "C" fn dlopen(file: *const c_char, flags: c_int) -> *mut c_voi
         "pop rsi",
         "pop rdi",
         "mov esi, eax",
+        // Never 0: `decide_dlopen` aborted if the real dlopen could not be found.
         "jmp qword ptr [rip + {real}]",
         decide = sym decide_dlopen,
         real = sym dl::REAL_DLOPEN,
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::atomic::AtomicUsize;
+
+    #[test]
+    fn the_real_dlsym_is_not_ours() {
+        let slot = AtomicUsize::new(0);
+        let real = dl::resolve(&slot, c"dlsym");
+        assert_ne!(real, 0);
+        assert_ne!(real, dlsym as *const () as usize, "ours is not the real one");
+    }
 }

@@ -24,14 +24,14 @@ pub fn boundary(surface: usize, present: impl FnOnce()) {
     if settings.multiview() {
         multiview_frame(frame, surface, settings);
     }
-    if settings.dumps(frame) {
-        if let Err(e) = dump::presented(frame, surface, settings) {
-            log::once(
-                &DUMP_FAILED,
-                Level::Error,
-                format_args!("frame {frame} not dumped: {e}"),
-            );
-        }
+    if settings.dumps(frame)
+        && let Err(e) = dump::presented(frame, surface, settings)
+    {
+        log::once(
+            &DUMP_FAILED,
+            Level::Error,
+            format_args!("frame {frame} not dumped: {e}"),
+        );
     }
     present();
     if settings.exit_after == Some(frame) {
@@ -52,14 +52,14 @@ fn multiview_frame(frame: u64, surface: usize, settings: &Settings) {
         if let Err(e) = presenter.present(gl, mv, window, settings.view.output) {
             log::once(&COMPOSE_FAILED, Level::Error, format_args!("{e}"));
         }
-        if settings.dumps(frame) {
-            if let Err(e) = presenter.dump(frame, gl, mv, settings) {
-                log::once(
-                    &DUMP_FAILED,
-                    Level::Error,
-                    format_args!("quilt of frame {frame} not dumped: {e}"),
-                );
-            }
+        if settings.dumps(frame)
+            && let Err(e) = presenter.dump(frame, gl, mv, settings)
+        {
+            log::once(
+                &DUMP_FAILED,
+                Level::Error,
+                format_args!("quilt of frame {frame} not dumped: {e}"),
+            );
         }
         crate::multiview::update_convergence(gl, mv);
         crate::multiview::framebuffer::ensure_target(gl, app, mv, window);

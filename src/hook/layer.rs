@@ -36,7 +36,7 @@ pub fn with_layer<R>(f: impl FnOnce(&Current, &mut AppState, &mut Layer, &Gl) ->
     crate::state::with_current(|cur| {
         let cur = cur?;
         let (gl, _) = cur.ctx.gl()?;
-        let mut tracked = cur.ctx.tracked();
+        let mut tracked = cur.ctx.tracked()?;
         let tracked = &mut *tracked;
         let app = tracked.app.as_mut()?;
         let layer = tracked.layer.as_mut()?.as_any_mut().downcast_mut::<Layer>()?;
@@ -80,7 +80,7 @@ pub fn on_make_current() {
             ));
             return;
         };
-        let mut tracked = cur.ctx.tracked();
+        let Some(mut tracked) = cur.ctx.tracked() else { return };
         let tracked = &mut *tracked;
         let Some(app) = tracked.app.as_ref() else { return };
         let slot = tracked.layer.get_or_insert_with(|| {

@@ -12,10 +12,12 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 pub mod dl;
 pub mod frame;
-pub mod handlers;
+pub(crate) mod handlers;
 pub mod layer;
 
-#[allow(unsafe_op_in_unsafe_fn, clippy::all)]
+// Generated: its unsafe blocks are the shims' calls of the real functions, one pattern
+// documented once in build.rs (`gen_shim`).
+#[allow(unsafe_op_in_unsafe_fn, clippy::all, clippy::undocumented_unsafe_blocks)]
 mod exports {
     include!(concat!(env!("OUT_DIR"), "/hooks.rs"));
 }
@@ -68,5 +70,19 @@ pub fn fail_point(id: usize) {
             "HOLOINJECT_TEST_FAIL: forced failure in {}",
             HOOKS[id].name.to_string_lossy()
         );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{HOOKS, find};
+
+    #[test]
+    fn finds_hooks_by_exact_name() {
+        let id = find(c"glDrawArrays").expect("a hooked name");
+        assert_eq!(HOOKS[id].name, c"glDrawArrays");
+        assert_eq!(find(c""), None);
+        assert_eq!(find(c"glDrawArraysX"), None);
+        assert_eq!(find(c"dlsym"), None);
     }
 }

@@ -47,6 +47,7 @@ pub fn level() -> Level {
     let parsed = if raw.is_null() {
         Some(Level::Warn)
     } else {
+        // SAFETY: getenv returns a NUL-terminated string, read before anything can change it.
         let s = unsafe { core::ffi::CStr::from_ptr(raw) }.to_str().unwrap_or("");
         Level::parse(s)
     };
@@ -170,7 +171,9 @@ pub fn announce() {
 /// object (the preloaded layer has its own copy of std, hence its own panic hook); linked into
 /// a program (tests, fuzz targets) the program's hook is left alone.
 fn quiet_panics() {
+    // SAFETY: `Dl_info` is plain C data (pointers and integers), valid when zeroed.
     let mut ours = unsafe { std::mem::zeroed::<libc::Dl_info>() };
+    // SAFETY: as above.
     let mut exe = unsafe { std::mem::zeroed::<libc::Dl_info>() };
     // SAFETY: dladdr on a function of this object and on the program's program headers
     // (AT_PHDR, inside the executable's mapping); both only fill the out structs.

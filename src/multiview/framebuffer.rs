@@ -194,6 +194,7 @@ fn clear_layers(gl: &Gl, app: &AppState, mv: &Multiview, f: &impl Fn()) -> bool 
         unsafe { gl.BindFramebuffer(DRAW_FRAMEBUFFER, view) };
         f();
     }
+    // SAFETY: the app's own framebuffer back.
     unsafe { gl.BindFramebuffer(DRAW_FRAMEBUFFER, app.draw_fbo) };
     true
 }
@@ -212,10 +213,12 @@ pub fn clear(gl: &Gl, app: &mut AppState, mv: &Multiview, f: impl Fn()) {
     }
     for i in 0..layout.views() {
         let r = intersect(layout.map_rect(i, app.scissor), layout.tile_rect(i));
+        // SAFETY: a scissor box; the app's is restored after the loop.
         unsafe { gl.Scissor(r[0], r[1], r[2], r[3]) };
         f();
     }
     let s = app.scissor;
+    // SAFETY: the app's scissor box back.
     unsafe { gl.Scissor(s[0], s[1], s[2], s[3]) };
 }
 

@@ -85,7 +85,10 @@ pub fn link_program(gl: &Gl, group: &ShareGroup, program: u32, link: impl Fn()) 
             format_args!("program {program}: link failed with our edits; linking the app's original"),
         );
         for s in [Some(shader).filter(|_| rewritten), fragment].into_iter().flatten() {
-            if let Some(src) = group.lock().original_sources.remove(&s) {
+            // Not `if let … = group.lock()…`: the guard would live through the compile, and GL
+            // may call the app back from inside it (see `state::lock`).
+            let original = group.lock().original_sources.remove(&s);
+            if let Some(src) = original {
                 compile(gl, s, &src);
             }
         }

@@ -129,20 +129,21 @@ impl Multiview {
 pub fn update_convergence(gl: &Gl, mv: &mut Multiview) {
     let Some(layout) = mv.layout() else { return };
     // ES cannot read depth back: there the projection's near/far give the estimate.
-    if mv.settings.convergence == Convergence::Auto && !mv.info.es {
-        if let (Some(target), Some(range)) = (mv.target.as_ref(), mv.camera.last_depth) {
-            let tile = target.layout.tile_rect(mv.camera.rig.centre());
-            let depths = crate::gl::readback::read_depth(gl, mv.info, target.fbo, tile);
-            if let Some(c) = crate::camera::convergence::estimate(&depths, range) {
-                if mv.camera.auto_convergence.is_none() {
-                    crate::log::info(format_args!(
-                        "auto-convergence: scene at {c:.4} (near {:.4}, far {:.4})",
-                        range.near(),
-                        range.far()
-                    ));
-                }
-                mv.camera.auto_convergence = Some(crate::camera::convergence::smooth(mv.camera.auto_convergence, c));
+    if mv.settings.convergence == Convergence::Auto
+        && !mv.info.es
+        && let (Some(target), Some(range)) = (mv.target.as_ref(), mv.camera.last_depth)
+    {
+        let tile = target.layout.tile_rect(mv.camera.rig.centre());
+        let depths = crate::gl::readback::read_depth(gl, mv.info, target.fbo, tile);
+        if let Some(c) = crate::camera::convergence::estimate(&depths, range) {
+            if mv.camera.auto_convergence.is_none() {
+                crate::log::info(format_args!(
+                    "auto-convergence: scene at {c:.4} (near {:.4}, far {:.4})",
+                    range.near(),
+                    range.far()
+                ));
             }
+            mv.camera.auto_convergence = Some(crate::camera::convergence::smooth(mv.camera.auto_convergence, c));
         }
     }
     mv.update_rig(layout);

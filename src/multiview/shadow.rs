@@ -313,6 +313,7 @@ impl ShadowFbo {
             DEPTH_STENCIL_ATTACHMENT => bits | DEPTH_BUFFER_BIT | STENCIL_BUFFER_BIT,
             _ => bits,
         });
+        // SAFETY: a capability query, valid in every context.
         let scissored = unsafe { gl.IsEnabled(SCISSOR_TEST) } != 0;
         // SAFETY: named blits between the app's framebuffer and ours (blits obey the scissor
         // test, so it is off meanwhile); selections and the scissor test restored.

@@ -29,9 +29,8 @@ fn default_size(gl: &Gl, attachment: GLenum, pname: GLenum) -> i32 {
 /// Depth/stencil storage like the window's: a 32-bit window depth buffer resolves close
 /// surfaces differently from a 24-bit one, so the quilt must not be coarser.
 fn depth_format(gl: &Gl, info: GlInfo) -> (GLenum, GLenum) {
-    let (depth, stencil) = if info.es { (DEPTH, STENCIL) } else { (DEPTH, STENCIL) };
-    let d = default_size(gl, depth, FRAMEBUFFER_ATTACHMENT_DEPTH_SIZE);
-    let s = default_size(gl, stencil, FRAMEBUFFER_ATTACHMENT_STENCIL_SIZE);
+    let d = default_size(gl, DEPTH, FRAMEBUFFER_ATTACHMENT_DEPTH_SIZE);
+    let s = default_size(gl, STENCIL, FRAMEBUFFER_ATTACHMENT_STENCIL_SIZE);
     match (d, s > 0) {
         // ES has no 32-bit normalised depth renderbuffers.
         (32, false) if info.es => (DEPTH_COMPONENT32F, DEPTH_ATTACHMENT),

@@ -88,7 +88,7 @@ pub fn global(id: usize) -> *const c_void {
 }
 
 /// Records a real address found by the app's own lookup (first one wins).
-pub fn remember(id: usize, p: *const c_void) {
+pub(crate) fn remember(id: usize, p: *const c_void) {
     if !p.is_null() {
         let _ = CACHE[id].compare_exchange(
             core::ptr::null_mut(),
@@ -101,7 +101,7 @@ pub fn remember(id: usize, p: *const c_void) {
 
 /// What a hook returns when its real function cannot be found (it should never be reached:
 /// we only hand out hooks for functions that exist).
-pub fn missing<R>(id: usize) -> R {
+pub(crate) fn missing<R: ZeroReturn>(id: usize) -> R {
     crate::log::once_for(
         ("missing", id as u64),
         crate::log::Level::Error,
@@ -110,8 +110,53 @@ pub fn missing<R>(id: usize) -> R {
             HOOKS[id].name.to_string_lossy()
         ),
     );
-    // SAFETY: every hooked return type (integers, raw pointers, unit) is valid when zeroed.
-    unsafe { core::mem::zeroed() }
+    R::ZERO
+}
+
+/// The return types of hooked entry points (what `build.rs` emits), each with the value a
+/// hook whose real function is missing returns: unit, 0, `GL_FALSE`/`EGL_FALSE`/`False`, or
+/// NULL. A hook with any other return type does not compile until its zero is chosen here.
+pub(crate) trait ZeroReturn: Copy {
+    const ZERO: Self;
+}
+
+impl ZeroReturn for () {
+    const ZERO: Self = ();
+}
+
+/// `GLboolean`.
+impl ZeroReturn for u8 {
+    const ZERO: Self = 0;
+}
+
+/// `GLint`, `Bool` (GLX).
+impl ZeroReturn for i32 {
+    const ZERO: Self = 0;
+}
+
+/// `GLenum`, `GLuint`, `EGLBoolean`.
+impl ZeroReturn for u32 {
+    const ZERO: Self = 0;
+}
+
+/// `GLXContext`, `EGLContext`, `OSMesaGetProcAddress`'s answer.
+impl ZeroReturn for *const c_void {
+    const ZERO: Self = core::ptr::null();
+}
+
+/// OSMesa contexts.
+impl ZeroReturn for *mut c_void {
+    const ZERO: Self = core::ptr::null_mut();
+}
+
+/// `__GLXextFuncPtr`.
+impl ZeroReturn for crate::gl::glx::types::__GLXextFuncPtr {
+    const ZERO: Self = core::ptr::null_mut();
+}
+
+/// `__eglMustCastToProperFunctionPointerType`.
+impl ZeroReturn for crate::gl::egl::types::__eglMustCastToProperFunctionPointerType {
+    const ZERO: Self = core::ptr::null_mut();
 }
 
 fn lookup(id: usize) -> *const c_void {
@@ -135,25 +180,48 @@ pub fn by_name(name: &CStr, api: HookApi) -> *const c_void {
 }
 
 fn lookup_name(name: &CStr, loader: Option<usize>) -> *const c_void {
-    let p = dl::real_dlsym(libc::RTLD_NEXT, name.as_ptr());
+    // SAFETY: RTLD_NEXT is a pseudo-handle dlsym always accepts.
+    let p = unsafe { dl::real_dlsym(libc::RTLD_NEXT, name) };
     if !p.is_null() {
         return p;
     }
     for soname in SONAMES {
-        let p = dl::symbol_in_loaded(soname, name.as_ptr());
+        let p = dl::symbol_in_loaded(soname, name);
         if !p.is_null() {
             return p;
         }
     }
-    loader.map_or(core::ptr::null(), |l| via_loader(global(l), name))
+    // SAFETY: `global` of a loader hook is that loader's real entry point, or null.
+    loader.map_or(core::ptr::null(), |l| unsafe { via_loader(global(l), name) })
 }
 
 /// Calls a real `*GetProcAddress` loader for `name`.
-pub fn via_loader(loader: *const c_void, name: &CStr) -> *const c_void {
+///
+/// # Safety
+/// `loader` is null or the address of a platform loader (`glXGetProcAddress[ARB]`,
+/// `eglGetProcAddress`, `OSMesaGetProcAddress`): a function taking a C string and returning
+/// an address.
+pub unsafe fn via_loader(loader: *const c_void, name: &CStr) -> *const c_void {
     if loader.is_null() {
         return core::ptr::null();
     }
-    // SAFETY: every platform loader has this signature.
-    let f: unsafe extern "C" fn(*const c_char) -> *const c_void = unsafe { core::mem::transmute(loader) };
+    type Loader = unsafe extern "C" fn(*const c_char) -> *const c_void;
+    // SAFETY: the caller guarantees `loader` is a non-null function with this signature.
+    let f = unsafe { core::mem::transmute::<*const c_void, Loader>(loader) };
+    // SAFETY: `name` is NUL-terminated; loaders only read it.
     unsafe { f(name.as_ptr()) }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{HOOKS, find};
+
+    #[test]
+    fn finds_hooks_by_exact_name() {
+        let id = find(c"glDrawArrays").expect("a hooked name");
+        assert_eq!(HOOKS[id].name, c"glDrawArrays");
+        assert_eq!(find(c""), None);
+        assert_eq!(find(c"glDrawArraysX"), None);
+        assert_eq!(find(c"dlsym"), None);
+    }
 }

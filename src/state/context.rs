@@ -5,13 +5,14 @@
 
 use super::ShareGroup;
 use super::app::AppState;
+use super::lock::{GlGuard, GlMutex};
 use super::orphans::LayerObjects;
 use crate::gl::{Gl, GlInfo, SharedGl};
 use crate::real::{self, HOOK_COUNT, HOOKS, id};
 use core::ffi::{CStr, c_void};
 use std::any::Any;
 use std::sync::atomic::{AtomicPtr, Ordering};
-use std::sync::{Arc, Mutex, MutexGuard, OnceLock};
+use std::sync::{Arc, OnceLock};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Platform {
@@ -51,7 +52,7 @@ pub struct Context {
     pub handle: usize,
     pub display: usize,
     pub group: Arc<ShareGroup>,
-    tracked: Mutex<Tracked>,
+    tracked: GlMutex<Tracked>,
     gl: OnceLock<Option<(SharedGl, GlInfo)>>,
     real: Box<[AtomicPtr<c_void>]>,
 }
@@ -64,16 +65,19 @@ impl Context {
             handle,
             display,
             group,
-            tracked: Mutex::new(Tracked::default()),
+            tracked: GlMutex::new(Tracked::default()),
             gl: OnceLock::new(),
             real,
         }
     }
 
-    /// The app's state and the layer's data in this context. Uncontended in practice: a
-    /// context is current on one thread at a time.
-    pub fn tracked(&self) -> MutexGuard<'_, Tracked> {
-        self.tracked.lock().unwrap_or_else(|e| e.into_inner())
+    /// The app's state and the layer's data in this context, locked (uncontended in
+    /// practice: a context is current on one thread at a time); `None` when the calling thread
+    /// holds it already: a hook re-entered from inside a real GL call the layer makes with it
+    /// locked (the app's synchronous debug callback calling GL), which must pass straight
+    /// through (see `lock`).
+    pub fn tracked(&self) -> Option<GlGuard<'_, Tracked>> {
+        self.tracked.enter()
     }
 
     fn loader(&self) -> *const c_void {
@@ -87,7 +91,7 @@ impl Context {
     /// Loads the GL table and, the first time, reads the app's state from GL.
     pub fn on_made_current(&self) {
         let Some((gl, info)) = self.gl() else { return };
-        let mut t = self.tracked();
+        let Some(mut t) = self.tracked() else { return };
         if t.app.is_none() {
             t.app = Some(AppState::read(gl, *info));
         }
@@ -103,7 +107,8 @@ impl Context {
                 }
                 let gl = Gl::load_with(|name| {
                     let name = std::ffi::CString::new(name).unwrap_or_default();
-                    real::via_loader(loader, &name)
+                    // SAFETY: `loader` is the platform's real `*GetProcAddress` (non-null here).
+                    unsafe { real::via_loader(loader, &name) }
                 });
                 let info = version_string(&gl).map(|v| GlInfo::parse(&v))?;
                 crate::log::info(format_args!("context {:#x}: {info:?}", self.handle));
@@ -118,7 +123,8 @@ impl Context {
         if !p.is_null() {
             return p;
         }
-        let p = real::via_loader(self.loader(), HOOKS[id].name);
+        // SAFETY: `loader()` is the platform's real `*GetProcAddress`, or null.
+        let p = unsafe { real::via_loader(self.loader(), HOOKS[id].name) };
         self.real[id].store(p as *mut c_void, Ordering::Release);
         p
     }
@@ -129,7 +135,7 @@ impl Drop for Context {
     /// the objects the layer made in it that its share group keeps are handed to the group
     /// (see `orphans`), unless this was the group's last context.
     fn drop(&mut self) {
-        let layer = self.tracked.get_mut().unwrap_or_else(|e| e.into_inner()).layer.take();
+        let layer = self.tracked.get_mut().layer.take();
         let objects = layer.map(|l| l.shared_objects()).unwrap_or_default();
         if objects.count() == 0 {
             return;
@@ -153,5 +159,6 @@ fn version_string(gl: &Gl) -> Option<String> {
     if p.is_null() {
         return None;
     }
+    // SAFETY: glGetString answers a static NUL-terminated string.
     Some(unsafe { CStr::from_ptr(p.cast()) }.to_string_lossy().into_owned())
 }

@@ -8,6 +8,7 @@
 
 pub mod app;
 mod context;
+pub mod lock;
 pub mod orphans;
 pub mod program;
 pub mod share;
@@ -156,7 +157,7 @@ pub fn real_gl(id: usize) -> *const core::ffi::c_void {
 pub fn with_app<R>(f: impl FnOnce(&mut AppState) -> R) -> Option<R> {
     with_current(|cur| {
         let cur = cur?;
-        let mut t = cur.ctx.tracked();
+        let mut t = cur.ctx.tracked()?;
         t.app.as_mut().map(f)
     })
 }

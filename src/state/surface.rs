@@ -34,6 +34,7 @@ pub fn size(cur: &Current) -> Option<(u32, u32)> {
             // SAFETY: glXQueryDrawable(Display*, GLXDrawable, int, unsigned int*).
             let f: unsafe extern "C" fn(usize, usize, i32, *mut u32) = unsafe { core::mem::transmute(f) };
             let (mut w, mut h) = (0u32, 0u32);
+            // SAFETY: the display and drawable the app made current; answers into locals.
             unsafe {
                 f(b.display, b.draw, GLX_WIDTH, &mut w);
                 f(b.display, b.draw, GLX_HEIGHT, &mut h);
@@ -48,6 +49,7 @@ pub fn size(cur: &Current) -> Option<(u32, u32)> {
             // SAFETY: eglQuerySurface(EGLDisplay, EGLSurface, EGLint, EGLint*) -> EGLBoolean.
             let f: unsafe extern "C" fn(usize, usize, i32, *mut i32) -> u32 = unsafe { core::mem::transmute(f) };
             let (mut w, mut h) = (0i32, 0i32);
+            // SAFETY: the display and surface the app made current; answers into locals.
             let ok = unsafe {
                 f(b.display, b.draw, crate::gl::egl::EGL_WIDTH, &mut w) != 0
                     && f(b.display, b.draw, crate::gl::egl::EGL_HEIGHT, &mut h) != 0

@@ -316,3 +316,29 @@ fn render_targets_made_in_another_context_or_under_a_reused_name_are_shadowed() 
         assert_parallax_grows(&read_png(&quilt_png), &quilt_png, (3, 3), 4, &[5, 8], 20, &what);
     }
 }
+
+/// Regression: an app's synchronous KHR_debug callback that calls GL (`glGetIntegerv`,
+/// `glGetError`) from inside a draw the layer replays per view deadlocked: the callback's
+/// `glGetIntegerv` hook waited for the per-context multiview lock its own thread held across
+/// the real draw. Re-entered hooks must pass through; the app must finish, and its callback
+/// must have run once per view of each frame (inside the replay, with the lock held).
+#[test]
+fn debug_callback_calling_gl_inside_a_replayed_draw_does_not_deadlock() {
+    use std::os::unix::process::ExitStatusExt;
+    let debugcall = app("debugcall");
+    let mut args = vec!["--backend", "egl", "--size", "160x120", "--frames", "3"];
+    let plain = run(&debugcall, &args, &[]);
+    assert_success(&plain, "plain debugcall");
+    assert!(stderr(&plain).contains("debugcall: messages=3"), "{}", stderr(&plain));
+    // Our own time limit, with SIGKILL: a deadlocked app never sees the SIGTERM of `run`.
+    let mut cmd = std::process::Command::new("timeout");
+    cmd.args(["--kill-after=5", "60"]).arg(launcher());
+    args.splice(0..0, ["run", "--quilt", "3x3", "--", debugcall.to_str().unwrap()]);
+    let out = cmd.args(&args).output().expect("timeout (coreutils)");
+    // 124: timed out, ended by SIGTERM. SIGKILL (or 137): SIGTERM ignored, as the app's handler
+    // only sets a flag its deadlocked thread never reads.
+    let hung = matches!(out.status.code(), Some(124 | 137)) || out.status.signal() == Some(9);
+    assert!(!hung, "hung (deadlock in the debug callback?): {}", stderr(&out));
+    assert_success(&out, "debugcall under the layer");
+    assert!(stderr(&out).contains("debugcall: messages=27"), "{}", stderr(&out));
+}

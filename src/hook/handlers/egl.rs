@@ -7,7 +7,7 @@ use crate::gl::egl::types::{
 use crate::state::{Binding, Platform};
 use core::ffi::c_char;
 
-pub fn eglCreateContext(
+pub(crate) fn eglCreateContext(
     real: impl Fn(EGLDisplay, EGLConfig, EGLContext, *const EGLint) -> EGLContext,
     dpy: EGLDisplay,
     config: EGLConfig,
@@ -21,7 +21,7 @@ pub fn eglCreateContext(
     ctx
 }
 
-pub fn eglMakeCurrent(
+pub(crate) fn eglMakeCurrent(
     real: impl Fn(EGLDisplay, EGLSurface, EGLSurface, EGLContext) -> EGLBoolean,
     dpy: EGLDisplay,
     draw: EGLSurface,
@@ -42,7 +42,7 @@ pub fn eglMakeCurrent(
     ok
 }
 
-pub fn eglDestroyContext(
+pub(crate) fn eglDestroyContext(
     real: impl Fn(EGLDisplay, EGLContext) -> EGLBoolean,
     dpy: EGLDisplay,
     ctx: EGLContext,
@@ -54,7 +54,7 @@ pub fn eglDestroyContext(
     ok
 }
 
-pub fn eglTerminate(real: impl Fn(EGLDisplay) -> EGLBoolean, dpy: EGLDisplay) -> EGLBoolean {
+pub(crate) fn eglTerminate(real: impl Fn(EGLDisplay) -> EGLBoolean, dpy: EGLDisplay) -> EGLBoolean {
     let ok = real(dpy);
     if ok != 0 {
         crate::state::display_terminated(Platform::Egl, dpy as usize);
@@ -62,7 +62,7 @@ pub fn eglTerminate(real: impl Fn(EGLDisplay) -> EGLBoolean, dpy: EGLDisplay) ->
     ok
 }
 
-pub fn eglSwapBuffers(
+pub(crate) fn eglSwapBuffers(
     real: impl Fn(EGLDisplay, EGLSurface) -> EGLBoolean,
     dpy: EGLDisplay,
     surface: EGLSurface,
@@ -72,7 +72,7 @@ pub fn eglSwapBuffers(
     ok
 }
 
-pub fn eglSwapBuffersWithDamageKHR(
+pub(crate) fn eglSwapBuffersWithDamageKHR(
     real: impl Fn(EGLDisplay, EGLSurface, *mut EGLint, EGLint) -> EGLBoolean,
     dpy: EGLDisplay,
     surface: EGLSurface,
@@ -84,6 +84,8 @@ pub fn eglSwapBuffersWithDamageKHR(
     ok
 }
 
-pub fn eglGetProcAddress(real: impl Fn(*const c_char) -> EglProc, name: *const c_char) -> EglProc {
-    super::proc_result(name, real(name).cast()) as EglProc
+pub(crate) fn eglGetProcAddress(real: impl Fn(*const c_char) -> EglProc, name: *const c_char) -> EglProc {
+    // SAFETY: the EGL spec requires `procname` to be a NUL-terminated string.
+    let proc = unsafe { super::proc_name(name) };
+    super::proc_result(proc, real(name).cast()) as EglProc
 }

@@ -13,7 +13,7 @@ fn created(ctx: GLXContext, dpy: *mut Display, share: GLXContext) -> GLXContext 
     ctx
 }
 
-pub fn glXCreateContext(
+pub(crate) fn glXCreateContext(
     real: impl Fn(*mut Display, *mut XVisualInfo, GLXContext, Bool) -> GLXContext,
     dpy: *mut Display,
     vis: *mut XVisualInfo,
@@ -23,7 +23,7 @@ pub fn glXCreateContext(
     created(real(dpy, vis, share, direct), dpy, share)
 }
 
-pub fn glXCreateNewContext(
+pub(crate) fn glXCreateNewContext(
     real: impl Fn(*mut Display, GLXFBConfig, c_int, GLXContext, Bool) -> GLXContext,
     dpy: *mut Display,
     config: GLXFBConfig,
@@ -34,7 +34,7 @@ pub fn glXCreateNewContext(
     created(real(dpy, config, render_type, share, direct), dpy, share)
 }
 
-pub fn glXCreateContextAttribsARB(
+pub(crate) fn glXCreateContextAttribsARB(
     real: impl Fn(*mut Display, GLXFBConfig, GLXContext, Bool, *const c_int) -> GLXContext,
     dpy: *mut Display,
     config: GLXFBConfig,
@@ -59,7 +59,7 @@ fn made_current(ok: Bool, dpy: *mut Display, draw: GLXDrawable, read: GLXDrawabl
     ok
 }
 
-pub fn glXMakeCurrent(
+pub(crate) fn glXMakeCurrent(
     real: impl Fn(*mut Display, GLXDrawable, GLXContext) -> Bool,
     dpy: *mut Display,
     drawable: GLXDrawable,
@@ -68,7 +68,7 @@ pub fn glXMakeCurrent(
     made_current(real(dpy, drawable, ctx), dpy, drawable, drawable, ctx)
 }
 
-pub fn glXMakeContextCurrent(
+pub(crate) fn glXMakeContextCurrent(
     real: impl Fn(*mut Display, GLXDrawable, GLXDrawable, GLXContext) -> Bool,
     dpy: *mut Display,
     draw: GLXDrawable,
@@ -78,15 +78,21 @@ pub fn glXMakeContextCurrent(
     made_current(real(dpy, draw, read, ctx), dpy, draw, read, ctx)
 }
 
-pub fn glXDestroyContext(real: impl Fn(*mut Display, GLXContext), dpy: *mut Display, ctx: GLXContext) {
+pub(crate) fn glXDestroyContext(real: impl Fn(*mut Display, GLXContext), dpy: *mut Display, ctx: GLXContext) {
     real(dpy, ctx);
     crate::state::context_destroyed(Platform::Glx, ctx as usize);
 }
 
-pub fn glXSwapBuffers(real: impl Fn(*mut Display, GLXDrawable), dpy: *mut Display, drawable: GLXDrawable) {
+pub(crate) fn glXSwapBuffers(real: impl Fn(*mut Display, GLXDrawable), dpy: *mut Display, drawable: GLXDrawable) {
     crate::hook::frame::boundary(drawable as usize, || real(dpy, drawable));
 }
 
-pub fn glXGetProcAddressARB(real: impl Fn(*const GLubyte) -> __GLXextFuncPtr, name: *const GLubyte) -> __GLXextFuncPtr {
-    super::proc_result(name.cast(), real(name).cast()) as __GLXextFuncPtr
+/// (Also the handler of `glXGetProcAddress`, an alias in the policy table.)
+pub(crate) fn glXGetProcAddressARB(
+    real: impl Fn(*const GLubyte) -> __GLXextFuncPtr,
+    name: *const GLubyte,
+) -> __GLXextFuncPtr {
+    // SAFETY: the GLX spec requires `procName` to be a NUL-terminated string.
+    let proc = unsafe { super::proc_name(name.cast()) };
+    super::proc_result(proc, real(name).cast()) as __GLXextFuncPtr
 }

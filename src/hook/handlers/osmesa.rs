@@ -12,7 +12,7 @@ fn created(ctx: *mut c_void, share: *mut c_void) -> *mut c_void {
     ctx
 }
 
-pub fn OSMesaCreateContext(
+pub(crate) fn OSMesaCreateContext(
     real: impl Fn(GLenum, *mut c_void) -> *mut c_void,
     format: GLenum,
     share: *mut c_void,
@@ -20,7 +20,7 @@ pub fn OSMesaCreateContext(
     created(real(format, share), share)
 }
 
-pub fn OSMesaCreateContextExt(
+pub(crate) fn OSMesaCreateContextExt(
     real: impl Fn(GLenum, GLint, GLint, GLint, *mut c_void) -> *mut c_void,
     format: GLenum,
     depth: GLint,
@@ -31,7 +31,7 @@ pub fn OSMesaCreateContextExt(
     created(real(format, depth, stencil, accum, share), share)
 }
 
-pub fn OSMesaCreateContextAttribs(
+pub(crate) fn OSMesaCreateContextAttribs(
     real: impl Fn(*const c_int, *mut c_void) -> *mut c_void,
     attribs: *const c_int,
     share: *mut c_void,
@@ -39,7 +39,7 @@ pub fn OSMesaCreateContextAttribs(
     created(real(attribs, share), share)
 }
 
-pub fn OSMesaMakeCurrent(
+pub(crate) fn OSMesaMakeCurrent(
     real: impl Fn(*mut c_void, *mut c_void, GLenum, GLsizei, GLsizei) -> GLboolean,
     ctx: *mut c_void,
     buffer: *mut c_void,
@@ -62,11 +62,16 @@ pub fn OSMesaMakeCurrent(
     ok
 }
 
-pub fn OSMesaDestroyContext(real: impl Fn(*mut c_void), ctx: *mut c_void) {
+pub(crate) fn OSMesaDestroyContext(real: impl Fn(*mut c_void), ctx: *mut c_void) {
     real(ctx);
     crate::state::context_destroyed(Platform::Osmesa, ctx as usize);
 }
 
-pub fn OSMesaGetProcAddress(real: impl Fn(*const c_char) -> *const c_void, name: *const c_char) -> *const c_void {
-    super::proc_result(name, real(name))
+pub(crate) fn OSMesaGetProcAddress(
+    real: impl Fn(*const c_char) -> *const c_void,
+    name: *const c_char,
+) -> *const c_void {
+    // SAFETY: OSMesa requires `funcName` to be a NUL-terminated string.
+    let proc = unsafe { super::proc_name(name) };
+    super::proc_result(proc, real(name))
 }

@@ -1,6 +1,6 @@
 //! Shared code of the holoinject sample apps (cubes, legacy, asteroids, model,
-//! skybox, compat120, gles, and the multi-pass framebuffers, shadowmap,
-//! deferred, ssao, bloom, msaa).
+//! skybox, compat120, gles, the multi-pass framebuffers, shadowmap,
+//! deferred, ssao, bloom, msaa, and twothreads, churn, debugcall).
 
 #[allow(
     clippy::all,

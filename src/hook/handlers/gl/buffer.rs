@@ -15,7 +15,7 @@ fn wrote_target(target: GLenum) {
     }
 }
 
-pub fn glBufferData(
+pub(crate) fn glBufferData(
     real: impl Fn(GLenum, GLsizeiptr, *const c_void, GLenum),
     t: GLenum,
     n: GLsizeiptr,
@@ -26,7 +26,7 @@ pub fn glBufferData(
     wrote_target(t);
 }
 
-pub fn glBufferSubData(
+pub(crate) fn glBufferSubData(
     real: impl Fn(GLenum, GLintptr, GLsizeiptr, *const c_void),
     t: GLenum,
     o: GLintptr,
@@ -37,7 +37,7 @@ pub fn glBufferSubData(
     wrote_target(t);
 }
 
-pub fn glNamedBufferSubData(
+pub(crate) fn glNamedBufferSubData(
     real: impl Fn(GLuint, GLintptr, GLsizeiptr, *const c_void),
     b: GLuint,
     o: GLintptr,
@@ -48,19 +48,19 @@ pub fn glNamedBufferSubData(
     ubo::wrote_buffer(b);
 }
 
-pub fn glUnmapBuffer(real: impl Fn(GLenum) -> GLboolean, t: GLenum) -> GLboolean {
+pub(crate) fn glUnmapBuffer(real: impl Fn(GLenum) -> GLboolean, t: GLenum) -> GLboolean {
     let r = real(t);
     wrote_target(t);
     r
 }
 
-pub fn glUnmapNamedBuffer(real: impl Fn(GLuint) -> GLboolean, b: GLuint) -> GLboolean {
+pub(crate) fn glUnmapNamedBuffer(real: impl Fn(GLuint) -> GLboolean, b: GLuint) -> GLboolean {
     let r = real(b);
     ubo::wrote_buffer(b);
     r
 }
 
-pub fn glCopyBufferSubData(
+pub(crate) fn glCopyBufferSubData(
     real: impl Fn(GLenum, GLenum, GLintptr, GLintptr, GLsizeiptr),
     r: GLenum,
     w: GLenum,
@@ -72,12 +72,12 @@ pub fn glCopyBufferSubData(
     wrote_target(w);
 }
 
-pub fn glBindBufferBase(real: impl Fn(GLenum, GLuint, GLuint), t: GLenum, i: GLuint, b: GLuint) {
+pub(crate) fn glBindBufferBase(real: impl Fn(GLenum, GLuint, GLuint), t: GLenum, i: GLuint, b: GLuint) {
     real(t, i, b);
     ubo::bound(t, b);
 }
 
-pub fn glBindBufferRange(
+pub(crate) fn glBindBufferRange(
     real: impl Fn(GLenum, GLuint, GLuint, GLintptr, GLsizeiptr),
     t: GLenum,
     i: GLuint,

@@ -3,11 +3,11 @@
 
 use crate::config::Boundary;
 
-pub fn glFinish(real: impl Fn()) {
+pub(crate) fn glFinish(real: impl Fn()) {
     boundary_or_call(Boundary::Finish, real);
 }
 
-pub fn glFlush(real: impl Fn()) {
+pub(crate) fn glFlush(real: impl Fn()) {
     boundary_or_call(Boundary::Flush, real);
 }
 

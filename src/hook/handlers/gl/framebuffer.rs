@@ -7,7 +7,7 @@ use crate::hook::layer::with_active;
 use crate::multiview::framebuffer as fb;
 use core::ffi::c_void;
 
-pub fn glBindFramebuffer(real: impl Fn(GLenum, GLuint), target: GLenum, fbo: GLuint) {
+pub(crate) fn glBindFramebuffer(real: impl Fn(GLenum, GLuint), target: GLenum, fbo: GLuint) {
     let mapped = with_active(|_, app, mv, _| fb::bind(app, mv, target, fbo));
 
     real(target, mapped.unwrap_or(fbo))
@@ -15,7 +15,7 @@ pub fn glBindFramebuffer(real: impl Fn(GLenum, GLuint), target: GLenum, fbo: GLu
 
 /// The app's buffer choice for framebuffer 0 is remembered and answered back; GL gets the
 /// quilt's attachment instead (GL_BACK is invalid on a framebuffer object).
-pub fn glDrawBuffer(real: impl Fn(GLenum), buf: GLenum) {
+pub(crate) fn glDrawBuffer(real: impl Fn(GLenum), buf: GLenum) {
     let mapped = with_active(|_, app, mv, _| {
         (mv.quilt_fbo().is_some() && app.draw_fbo == 0).then(|| {
             app.draw_buffer = buf;
@@ -26,7 +26,7 @@ pub fn glDrawBuffer(real: impl Fn(GLenum), buf: GLenum) {
     draw_buffers_changed(&[buf]);
 }
 
-pub fn glReadBuffer(real: impl Fn(GLenum), buf: GLenum) {
+pub(crate) fn glReadBuffer(real: impl Fn(GLenum), buf: GLenum) {
     let mapped = with_active(|_, app, mv, _| {
         (mv.quilt_fbo().is_some() && app.read_fbo == 0).then(|| {
             app.read_buffer = buf;
@@ -50,30 +50,28 @@ fn draw_buffers_changed(bufs: &[GLenum]) {
     });
 }
 
-pub fn glDrawBuffers(real: impl Fn(GLsizei, *const GLenum), n: GLsizei, bufs: *const GLenum) {
+pub(crate) fn glDrawBuffers(real: impl Fn(GLsizei, *const GLenum), n: GLsizei, bufs: *const GLenum) {
+    // SAFETY: glDrawBuffers reads `n` buffer names from `bufs`.
+    let asked = unsafe { super::super::app_slice(bufs, n) };
     let on_fb0 = with_active(|_, app, mv, _| mv.quilt_fbo().is_some() && app.draw_fbo == 0).unwrap_or(false);
-
-    if !on_fb0 || bufs.is_null() || n <= 0 {
+    if !on_fb0 || asked.is_empty() {
         real(n, bufs);
-        if !bufs.is_null() && n > 0 {
-            // SAFETY: the app passes `n` buffer names.
-            draw_buffers_changed(unsafe { std::slice::from_raw_parts(bufs, n as usize) });
+        if !asked.is_empty() {
+            draw_buffers_changed(asked);
         }
         return;
     }
-    // SAFETY: the app passes `n` buffer names.
-    let asked: Vec<GLenum> = unsafe { std::slice::from_raw_parts(bufs, n as usize) }.to_vec();
-    with_active(|_, app, _, _| app.draw_buffer = asked[0]);
+    crate::state::with_app(|app| app.draw_buffer = asked[0]);
     let mapped: Vec<GLenum> = asked.iter().map(|&b| fb::map_buffer(b)).collect();
     real(n, mapped.as_ptr())
 }
 
-pub fn glViewport(real: impl Fn(GLint, GLint, GLsizei, GLsizei), x: GLint, y: GLint, w: GLsizei, h: GLsizei) {
+pub(crate) fn glViewport(real: impl Fn(GLint, GLint, GLsizei, GLsizei), x: GLint, y: GLint, w: GLsizei, h: GLsizei) {
     crate::state::with_app(|app| app.viewport = [x, y, w, h]);
     real(x, y, w, h)
 }
 
-pub fn glScissor(real: impl Fn(GLint, GLint, GLsizei, GLsizei), x: GLint, y: GLint, w: GLsizei, h: GLsizei) {
+pub(crate) fn glScissor(real: impl Fn(GLint, GLint, GLsizei, GLsizei), x: GLint, y: GLint, w: GLsizei, h: GLsizei) {
     crate::state::with_app(|app| app.scissor = [x, y, w, h]);
     real(x, y, w, h)
 }
@@ -84,28 +82,44 @@ fn clear_tiles(f: impl Fn()) {
     }
 }
 
-pub fn glClear(real: impl Fn(GLbitfield), mask: GLbitfield) {
+pub(crate) fn glClear(real: impl Fn(GLbitfield), mask: GLbitfield) {
     clear_tiles(|| real(mask))
 }
 
-pub fn glClearBufferfv(real: impl Fn(GLenum, GLint, *const GLfloat), buffer: GLenum, i: GLint, v: *const GLfloat) {
+pub(crate) fn glClearBufferfv(
+    real: impl Fn(GLenum, GLint, *const GLfloat),
+    buffer: GLenum,
+    i: GLint,
+    v: *const GLfloat,
+) {
     clear_tiles(|| real(buffer, i, v))
 }
 
-pub fn glClearBufferiv(real: impl Fn(GLenum, GLint, *const GLint), buffer: GLenum, i: GLint, v: *const GLint) {
+pub(crate) fn glClearBufferiv(real: impl Fn(GLenum, GLint, *const GLint), buffer: GLenum, i: GLint, v: *const GLint) {
     clear_tiles(|| real(buffer, i, v))
 }
 
-pub fn glClearBufferuiv(real: impl Fn(GLenum, GLint, *const GLuint), buffer: GLenum, i: GLint, v: *const GLuint) {
+pub(crate) fn glClearBufferuiv(
+    real: impl Fn(GLenum, GLint, *const GLuint),
+    buffer: GLenum,
+    i: GLint,
+    v: *const GLuint,
+) {
     clear_tiles(|| real(buffer, i, v))
 }
 
-pub fn glClearBufferfi(real: impl Fn(GLenum, GLint, GLfloat, GLint), buffer: GLenum, i: GLint, d: GLfloat, s: GLint) {
+pub(crate) fn glClearBufferfi(
+    real: impl Fn(GLenum, GLint, GLfloat, GLint),
+    buffer: GLenum,
+    i: GLint,
+    d: GLfloat,
+    s: GLint,
+) {
     clear_tiles(|| real(buffer, i, d, s))
 }
 
 /// Reads from framebuffer 0 see the centre view at the app's resolution.
-pub fn glReadPixels(
+pub(crate) fn glReadPixels(
     real: impl Fn(GLint, GLint, GLsizei, GLsizei, GLenum, GLenum, *mut c_void),
     x: GLint,
     y: GLint,
@@ -134,8 +148,7 @@ fn centre_read(rect: [i32; 4], read: impl Fn([i32; 4])) {
     }
 }
 
-#[allow(clippy::too_many_arguments)]
-pub fn glCopyTexSubImage2D(
+pub(crate) fn glCopyTexSubImage2D(
     real: impl Fn(GLenum, GLint, GLint, GLint, GLint, GLint, GLsizei, GLsizei),
     target: GLenum,
     level: GLint,
@@ -149,8 +162,7 @@ pub fn glCopyTexSubImage2D(
     centre_read([x, y, w, h], |r| real(target, level, xoff, yoff, r[0], r[1], w, h))
 }
 
-#[allow(clippy::too_many_arguments)]
-pub fn glCopyTexImage2D(
+pub(crate) fn glCopyTexImage2D(
     real: impl Fn(GLenum, GLint, GLenum, GLint, GLint, GLsizei, GLsizei, GLint),
     target: GLenum,
     level: GLint,
@@ -164,8 +176,7 @@ pub fn glCopyTexImage2D(
     centre_read([x, y, w, h], |r| real(target, level, format, r[0], r[1], w, h, border))
 }
 
-#[allow(clippy::too_many_arguments)]
-pub fn glBlitFramebuffer(
+pub(crate) fn glBlitFramebuffer(
     real: impl Fn(GLint, GLint, GLint, GLint, GLint, GLint, GLint, GLint, GLbitfield, GLenum),
     sx0: GLint,
     sy0: GLint,
@@ -186,7 +197,7 @@ pub fn glBlitFramebuffer(
 
 /// Invalidation is only a hint; framebuffer 0's attachment names are invalid on our quilt,
 /// so the hint is dropped while the quilt stands in for it.
-pub fn glInvalidateFramebuffer(
+pub(crate) fn glInvalidateFramebuffer(
     real: impl Fn(GLenum, GLsizei, *const GLenum),
     target: GLenum,
     n: GLsizei,

@@ -7,12 +7,12 @@
 use crate::gl::types::*;
 use crate::hook::layer::with_active;
 
-pub fn glBegin(real: impl Fn(GLenum), mode: GLenum) {
+pub(crate) fn glBegin(real: impl Fn(GLenum), mode: GLenum) {
     with_active(|_, app, mv, gl| crate::multiview::immediate::begin(gl, app, mv));
     real(mode)
 }
 
-pub fn glEnd(real: impl Fn()) {
+pub(crate) fn glEnd(real: impl Fn()) {
     real();
     let list = with_active(|_, _, mv, gl| crate::multiview::immediate::end(gl, mv)).flatten();
     if let Some(list) = list {
@@ -20,22 +20,22 @@ pub fn glEnd(real: impl Fn()) {
     }
 }
 
-pub fn glNewList(real: impl Fn(GLuint, GLenum), list: GLuint, mode: GLenum) {
+pub(crate) fn glNewList(real: impl Fn(GLuint, GLenum), list: GLuint, mode: GLenum) {
     crate::state::with_app(|app| app.list_begun(list, mode));
     real(list, mode)
 }
 
-pub fn glEndList(real: impl Fn()) {
+pub(crate) fn glEndList(real: impl Fn()) {
     real();
     crate::state::with_app(|app| app.list_ended());
 }
 
-pub fn glBeginTransformFeedback(real: impl Fn(GLenum), mode: GLenum) {
+pub(crate) fn glBeginTransformFeedback(real: impl Fn(GLenum), mode: GLenum) {
     crate::state::with_app(|app| app.transform_feedback = true);
     real(mode)
 }
 
-pub fn glEndTransformFeedback(real: impl Fn()) {
+pub(crate) fn glEndTransformFeedback(real: impl Fn()) {
     real();
     crate::state::with_app(|app| app.transform_feedback = false);
 }

@@ -36,24 +36,28 @@ fn map_index(program: GLuint, index: GLuint) -> GLuint {
 }
 
 /// Lowers a count the app gets by the number of our uniforms.
-fn lower(params: *mut GLint, by: usize) {
-    if !params.is_null() {
-        // SAFETY: the app passed room for this query's single-integer answer.
-        unsafe { *params = (*params - by as GLint).max(0) };
+fn lower(count: Option<&mut GLint>, by: usize) {
+    if let Some(count) = count {
+        *count = (*count - by as GLint).max(0);
     }
 }
 
-pub fn glGetProgramiv(real: impl Fn(GLuint, GLenum, *mut GLint), program: GLuint, pname: GLenum, params: *mut GLint) {
+pub(crate) fn glGetProgramiv(
+    real: impl Fn(GLuint, GLenum, *mut GLint),
+    program: GLuint,
+    pname: GLenum,
+    params: *mut GLint,
+) {
     real(program, pname, params);
-    if pname == ACTIVE_UNIFORMS {
-        if let Some(h) = hidden(program) {
-            lower(params, h.len());
-        }
+    if pname == ACTIVE_UNIFORMS
+        && let Some(h) = hidden(program)
+    {
+        // SAFETY: GL_ACTIVE_UNIFORMS answers one integer into `params`, written just above.
+        lower(unsafe { super::super::app_out(params) }, h.len());
     }
 }
 
-#[allow(clippy::too_many_arguments)]
-pub fn glGetActiveUniform(
+pub(crate) fn glGetActiveUniform(
     real: impl Fn(GLuint, GLuint, GLsizei, *mut GLsizei, *mut GLint, *mut GLenum, *mut GLchar),
     program: GLuint,
     index: GLuint,
@@ -66,7 +70,7 @@ pub fn glGetActiveUniform(
     real(program, map_index(program, index), buf_size, length, size, type_, name)
 }
 
-pub fn glGetActiveUniformName(
+pub(crate) fn glGetActiveUniformName(
     real: impl Fn(GLuint, GLuint, GLsizei, *mut GLsizei, *mut GLchar),
     program: GLuint,
     index: GLuint,
@@ -77,7 +81,7 @@ pub fn glGetActiveUniformName(
     real(program, map_index(program, index), buf_size, length, name)
 }
 
-pub fn glGetActiveUniformsiv(
+pub(crate) fn glGetActiveUniformsiv(
     real: impl Fn(GLuint, GLsizei, *const GLuint, GLenum, *mut GLint),
     program: GLuint,
     count: GLsizei,
@@ -85,18 +89,16 @@ pub fn glGetActiveUniformsiv(
     pname: GLenum,
     params: *mut GLint,
 ) {
-    let Some(h) = hidden(program).filter(|_| count > 0 && !indices.is_null()) else {
+    // SAFETY: glGetActiveUniformsiv reads `count` indices from `indices`.
+    let app = unsafe { super::super::app_slice(indices, count) };
+    let Some(h) = hidden(program).filter(|_| !app.is_empty()) else {
         return real(program, count, indices, pname, params);
     };
-    // SAFETY: the app passed `count` indices.
-    let mapped: Vec<GLuint> = unsafe { std::slice::from_raw_parts(indices, count as usize) }
-        .iter()
-        .map(|&i| real_index(&h, i))
-        .collect();
+    let mapped: Vec<GLuint> = app.iter().map(|&i| real_index(&h, i)).collect();
     real(program, count, mapped.as_ptr(), pname, params)
 }
 
-pub fn glGetProgramInterfaceiv(
+pub(crate) fn glGetProgramInterfaceiv(
     real: impl Fn(GLuint, GLenum, GLenum, *mut GLint),
     program: GLuint,
     interface: GLenum,
@@ -104,14 +106,16 @@ pub fn glGetProgramInterfaceiv(
     params: *mut GLint,
 ) {
     real(program, interface, pname, params);
-    if interface == UNIFORM_INTERFACE && pname == ACTIVE_RESOURCES {
-        if let Some(h) = hidden(program) {
-            lower(params, h.len());
-        }
+    if interface == UNIFORM_INTERFACE
+        && pname == ACTIVE_RESOURCES
+        && let Some(h) = hidden(program)
+    {
+        // SAFETY: GL_ACTIVE_RESOURCES answers one integer into `params`, written just above.
+        lower(unsafe { super::super::app_out(params) }, h.len());
     }
 }
 
-pub fn glGetProgramResourceName(
+pub(crate) fn glGetProgramResourceName(
     real: impl Fn(GLuint, GLenum, GLuint, GLsizei, *mut GLsizei, *mut GLchar),
     program: GLuint,
     interface: GLenum,
@@ -128,8 +132,7 @@ pub fn glGetProgramResourceName(
     real(program, interface, index, buf_size, length, name)
 }
 
-#[allow(clippy::too_many_arguments)]
-pub fn glGetProgramResourceiv(
+pub(crate) fn glGetProgramResourceiv(
     real: impl Fn(GLuint, GLenum, GLuint, GLsizei, *const GLenum, GLsizei, *mut GLsizei, *mut GLint),
     program: GLuint,
     interface: GLenum,

@@ -11,21 +11,21 @@ mod raster;
 mod shadowed;
 mod texture;
 
-pub use buffer::*;
-pub use frame::*;
-pub use framebuffer::*;
-pub use immediate::*;
-pub use introspection::*;
-pub use program::*;
-pub use query::*;
-pub use raster::*;
-pub use shadowed::*;
-pub use texture::*;
+pub(crate) use buffer::*;
+pub(crate) use frame::*;
+pub(crate) use framebuffer::*;
+pub(crate) use immediate::*;
+pub(crate) use introspection::*;
+pub(crate) use program::*;
+pub(crate) use query::*;
+pub(crate) use raster::*;
+pub(crate) use shadowed::*;
+pub(crate) use texture::*;
 
 /// The handler of every `view` entry of the policy table (generated shims call it with the
 /// real call): replays `f` once per view when multiview applies to the current draw, else
 /// calls it once.
-pub fn per_view(f: impl Fn()) {
+pub(crate) fn per_view(f: impl Fn()) {
     let done = crate::hook::layer::with_active(|cur, app, mv, gl| {
         crate::multiview::replay::draw(gl, app, mv, &cur.ctx.group, &f)
     });

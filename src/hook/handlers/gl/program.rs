@@ -2,7 +2,7 @@
 
 use crate::gl::types::*;
 
-pub fn glLinkProgram(real: impl Fn(GLuint), program: GLuint) {
+pub(crate) fn glLinkProgram(real: impl Fn(GLuint), program: GLuint) {
     if !crate::config::settings().multiview() {
         return real(program);
     }
@@ -19,11 +19,11 @@ pub fn glLinkProgram(real: impl Fn(GLuint), program: GLuint) {
 
 /// The current program, and (with multiview on) the layer's snapshot of what it knows about
 /// it, so that draws need not ask the share group (see `state::program`).
-pub fn glUseProgram(real: impl Fn(GLuint), program: GLuint) {
+pub(crate) fn glUseProgram(real: impl Fn(GLuint), program: GLuint) {
     let multiview = crate::config::settings().multiview();
     crate::state::with_current(|cur| {
         let cur = cur?;
-        let mut tracked = cur.ctx.tracked();
+        let mut tracked = cur.ctx.tracked()?;
         let app = tracked.app.as_mut()?;
         app.program = program;
         if multiview && program != 0 {
@@ -35,7 +35,7 @@ pub fn glUseProgram(real: impl Fn(GLuint), program: GLuint) {
 }
 
 /// The app replaced a shader's source: what we stored about its old one no longer applies.
-pub fn glShaderSource(
+pub(crate) fn glShaderSource(
     real: impl Fn(GLuint, GLsizei, *const *const GLchar, *const GLint),
     shader: GLuint,
     count: GLsizei,
@@ -46,10 +46,8 @@ pub fn glShaderSource(
     crate::state::with_current(|cur| cur.map(|c| c.ctx.group.lock().original_sources.remove(&shader)));
 }
 
-fn column_major(value: *const GLfloat, transpose: GLboolean) -> [f32; 16] {
-    let mut m = [0f32; 16];
-    // SAFETY: the app passes at least one 4x4 matrix.
-    m.copy_from_slice(unsafe { std::slice::from_raw_parts(value, 16) });
+fn column_major(value: &[f32; 16], transpose: GLboolean) -> [f32; 16] {
+    let mut m = *value;
     if transpose != 0 {
         let t = m;
         for r in 0..4 {
@@ -61,17 +59,26 @@ fn column_major(value: *const GLfloat, transpose: GLboolean) -> [f32; 16] {
     m
 }
 
+/// The first matrix of a `glUniformMatrix4fv`-style upload.
+///
+/// # Safety
+/// `value` is null or points to `count` 4x4 matrices, as those calls require.
+unsafe fn first_matrix<'a>(value: *const GLfloat, count: GLsizei) -> Option<&'a [f32; 16]> {
+    // SAFETY: `count` matrices of 16 floats each, as the caller guarantees.
+    unsafe { super::super::app_slice(value, count.saturating_mul(16)) }.first_chunk::<16>()
+}
+
 /// Records a `mat4` upload in the share group (for other contexts, relinks and screen-space
 /// passes) and in this context's snapshot of its current program. `program` None: the
 /// current one.
-fn track_matrix(program: Option<u32>, loc: GLint, count: GLsizei, transpose: GLboolean, value: *const GLfloat) {
-    if loc < 0 || count < 1 || value.is_null() {
+fn track_matrix(program: Option<u32>, loc: GLint, transpose: GLboolean, value: Option<&[f32; 16]>) {
+    let Some(value) = value.filter(|_| loc >= 0) else {
         return;
-    }
+    };
     let m = column_major(value, transpose);
     crate::state::with_current(|cur| {
         let cur = cur?;
-        let mut tracked = cur.ctx.tracked();
+        let mut tracked = cur.ctx.tracked()?;
         let app = tracked.app.as_mut()?;
         let program = program.unwrap_or(app.program);
         let before = cur.ctx.group.uploaded(program, loc, m);
@@ -80,7 +87,7 @@ fn track_matrix(program: Option<u32>, loc: GLint, count: GLsizei, transpose: GLb
     });
 }
 
-pub fn glUniformMatrix4fv(
+pub(crate) fn glUniformMatrix4fv(
     real: impl Fn(GLint, GLsizei, GLboolean, *const GLfloat),
     loc: GLint,
     count: GLsizei,
@@ -89,11 +96,13 @@ pub fn glUniformMatrix4fv(
 ) {
     real(loc, count, transpose, value);
     if crate::config::settings().multiview() {
-        track_matrix(None, loc, count, transpose, value);
+        // SAFETY: glUniformMatrix4fv reads `count` matrices from `value`.
+        let first = unsafe { first_matrix(value, count) };
+        track_matrix(None, loc, transpose, first);
     }
 }
 
-pub fn glProgramUniformMatrix4fv(
+pub(crate) fn glProgramUniformMatrix4fv(
     real: impl Fn(GLuint, GLint, GLsizei, GLboolean, *const GLfloat),
     program: GLuint,
     loc: GLint,
@@ -103,6 +112,8 @@ pub fn glProgramUniformMatrix4fv(
 ) {
     real(program, loc, count, transpose, value);
     if crate::config::settings().multiview() {
-        track_matrix(Some(program), loc, count, transpose, value);
+        // SAFETY: glProgramUniformMatrix4fv reads `count` matrices from `value`.
+        let first = unsafe { first_matrix(value, count) };
+        track_matrix(Some(program), loc, transpose, first);
     }
 }

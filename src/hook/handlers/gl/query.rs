@@ -8,7 +8,7 @@ use crate::multiview::framebuffer as fb;
 
 const NUM_PROGRAM_BINARY_FORMATS: GLenum = 0x87FE;
 
-pub fn glGetIntegerv(real: impl Fn(GLenum, *mut GLint), pname: GLenum, data: *mut GLint) {
+pub(crate) fn glGetIntegerv(real: impl Fn(GLenum, *mut GLint), pname: GLenum, data: *mut GLint) {
     if with_active(|_, app, mv, gl| fb::on_real_default(gl, app, mv, pname, || real(pname, data)))
         .flatten()
         .is_some()
@@ -24,13 +24,14 @@ pub fn glGetIntegerv(real: impl Fn(GLenum, *mut GLint), pname: GLenum, data: *mu
     } else {
         with_active(|_, app, mv, _| fb::patch_get(app, mv, pname)).flatten()
     };
-    if let Some(v) = fixed {
-        // SAFETY: the app passed room for this query's answer (at least one integer).
-        unsafe { *data = v };
+    // SAFETY: every glGetIntegerv query answers at least one integer into `data`, written
+    // just above.
+    if let (Some(v), Some(answer)) = (fixed, unsafe { super::super::app_out(data) }) {
+        *answer = v;
     }
 }
 
-pub fn glGetShaderSource(
+pub(crate) fn glGetShaderSource(
     real: impl Fn(GLuint, GLsizei, *mut GLsizei, *mut GLchar),
     shader: GLuint,
     size: GLsizei,
@@ -42,18 +43,28 @@ pub fn glGetShaderSource(
     let Some(text) = original.filter(|_| size > 0 && !source.is_null()) else {
         return real(shader, size, length, source);
     };
-    let n = text.len().min(size as usize - 1);
-    // SAFETY: the app's buffer holds `size` bytes; we write n < size bytes plus a NUL.
-    unsafe {
-        std::ptr::copy_nonoverlapping(text.as_ptr(), source.cast::<u8>(), n);
-        *source.add(n) = 0;
-        if !length.is_null() {
-            *length = n as GLsizei;
-        }
+    // SAFETY: glGetShaderSource's `source` has room for `size` characters and `length` for
+    // one integer (or is null); we answer in place of the real call.
+    let (buf, length) = unsafe {
+        (
+            super::super::app_buffer(source.cast::<u8>(), size),
+            super::super::app_out(length),
+        )
+    };
+    let n = text.len().min(buf.len() - 1);
+    buf[..n].copy_from_slice(&text.as_bytes()[..n]);
+    buf[n] = 0;
+    if let Some(length) = length {
+        *length = n as GLsizei;
     }
 }
 
-pub fn glGetShaderiv(real: impl Fn(GLuint, GLenum, *mut GLint), shader: GLuint, pname: GLenum, params: *mut GLint) {
+pub(crate) fn glGetShaderiv(
+    real: impl Fn(GLuint, GLenum, *mut GLint),
+    shader: GLuint,
+    pname: GLenum,
+    params: *mut GLint,
+) {
     real(shader, pname, params);
     if pname != crate::gl::SHADER_SOURCE_LENGTH || params.is_null() {
         return;
@@ -61,13 +72,13 @@ pub fn glGetShaderiv(real: impl Fn(GLuint, GLenum, *mut GLint), shader: GLuint, 
     let len = crate::state::with_current(|cur| {
         cur.and_then(|c| c.ctx.group.lock().original_sources.get(&shader).map(|s| s.len() + 1))
     });
-    if let Some(len) = len {
-        // SAFETY: one integer answer.
-        unsafe { *params = len as GLint };
+    // SAFETY: GL_SHADER_SOURCE_LENGTH answers one integer into `params`, written just above.
+    if let (Some(len), Some(answer)) = (len, unsafe { super::super::app_out(params) }) {
+        *answer = len as GLint;
     }
 }
 
-pub fn glGetBooleanv(real: impl Fn(GLenum, *mut GLboolean), pname: GLenum, data: *mut GLboolean) {
+pub(crate) fn glGetBooleanv(real: impl Fn(GLenum, *mut GLboolean), pname: GLenum, data: *mut GLboolean) {
     if with_active(|_, app, mv, gl| fb::on_real_default(gl, app, mv, pname, || real(pname, data)))
         .flatten()
         .is_none()
@@ -76,7 +87,7 @@ pub fn glGetBooleanv(real: impl Fn(GLenum, *mut GLboolean), pname: GLenum, data:
     }
 }
 
-pub fn glGetFramebufferAttachmentParameteriv(
+pub(crate) fn glGetFramebufferAttachmentParameteriv(
     real: impl Fn(GLenum, GLenum, GLenum, *mut GLint),
     target: GLenum,
     attachment: GLenum,

@@ -31,8 +31,7 @@ fn per_view_raster(advance: (f32, f32), f: impl Fn(Option<[i32; 4]>)) {
     }
 }
 
-#[allow(clippy::too_many_arguments)]
-pub fn glBitmap(
+pub(crate) fn glBitmap(
     real: impl Fn(GLsizei, GLsizei, GLfloat, GLfloat, GLfloat, GLfloat, *const GLubyte),
     w: GLsizei,
     h: GLsizei,
@@ -45,7 +44,7 @@ pub fn glBitmap(
     per_view_raster((xmove, ymove), |_| real(w, h, xorig, yorig, xmove, ymove, bitmap))
 }
 
-pub fn glDrawPixels(
+pub(crate) fn glDrawPixels(
     real: impl Fn(GLsizei, GLsizei, GLenum, GLenum, *const c_void),
     w: GLsizei,
     h: GLsizei,
@@ -59,7 +58,7 @@ pub fn glDrawPixels(
 /// The source rectangle is in window coordinates too: each view copies from the same place
 /// in its own tile (exact when tiles are the window's size; scaled tiles copy the window-sized
 /// rectangle from the tile's origin).
-pub fn glCopyPixels(
+pub(crate) fn glCopyPixels(
     real: impl Fn(GLint, GLint, GLsizei, GLsizei, GLenum),
     x: GLint,
     y: GLint,
@@ -73,7 +72,7 @@ pub fn glCopyPixels(
     })
 }
 
-pub fn glRenderMode(real: impl Fn(GLenum) -> GLint, mode: GLenum) -> GLint {
+pub(crate) fn glRenderMode(real: impl Fn(GLenum) -> GLint, mode: GLenum) -> GLint {
     crate::state::with_app(|app| app.selecting = mode != crate::gl::RENDER);
 
     real(mode)

@@ -13,12 +13,12 @@ fn shadowing() -> bool {
     crate::config::settings().multiview()
 }
 
-pub fn glEnable(real: impl Fn(GLenum), cap: GLenum) {
+pub(crate) fn glEnable(real: impl Fn(GLenum), cap: GLenum) {
     real(cap);
     enabled(cap, true);
 }
 
-pub fn glDisable(real: impl Fn(GLenum), cap: GLenum) {
+pub(crate) fn glDisable(real: impl Fn(GLenum), cap: GLenum) {
     real(cap);
     enabled(cap, false);
 }
@@ -29,7 +29,7 @@ fn enabled(cap: GLenum, on: bool) {
     }
 }
 
-pub fn glPopAttrib(real: impl Fn()) {
+pub(crate) fn glPopAttrib(real: impl Fn()) {
     real();
     forget_shadowed();
 }
@@ -41,7 +41,7 @@ fn forget_shadowed() {
     }
 }
 
-pub fn glMatrixMode(real: impl Fn(GLenum), mode: GLenum) {
+pub(crate) fn glMatrixMode(real: impl Fn(GLenum), mode: GLenum) {
     real(mode);
     if shadowing() {
         crate::state::with_app(|app| app.shadowed_call(ListEffect::Anything, |app| app.matrix_mode = Some(mode)));
@@ -51,7 +51,7 @@ pub fn glMatrixMode(real: impl Fn(GLenum), mode: GLenum) {
 /// The handler of every `matrix` entry of the policy table (generated shims call it after
 /// the real call): the projection may have changed (`mode` given by the direct-state-access
 /// spellings, else the current matrix mode).
-pub fn matrix_changed(mode: Option<GLenum>) {
+pub(crate) fn matrix_changed(mode: Option<GLenum>) {
     if shadowing() {
         let effect = match mode {
             None => ListEffect::CurrentMatrix,
@@ -63,7 +63,7 @@ pub fn matrix_changed(mode: Option<GLenum>) {
 }
 
 /// Display lists may hold any of the calls above.
-pub fn glCallList(real: impl Fn(GLuint), list: GLuint) {
+pub(crate) fn glCallList(real: impl Fn(GLuint), list: GLuint) {
     super::per_view(|| real(list));
     if shadowing() {
         crate::state::with_app(|app| app.list_called(Some(list)));
@@ -71,7 +71,7 @@ pub fn glCallList(real: impl Fn(GLuint), list: GLuint) {
 }
 
 /// (Names relative to `glListBase`, in one of several types: taken as unknown lists.)
-pub fn glCallLists(
+pub(crate) fn glCallLists(
     real: impl Fn(GLsizei, GLenum, *const core::ffi::c_void),
     n: GLsizei,
     ty: GLenum,

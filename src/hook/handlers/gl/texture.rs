@@ -2,12 +2,13 @@
 //! substitution needs, and every call that makes a shadow stale (re-attachment, new storage,
 //! deletion) or needs mirroring (mipmaps).
 
+use super::super::app_slice;
 use crate::gl::types::*;
 use crate::hook::layer::with_active;
 use crate::multiview::layers::forget;
 use core::ffi::c_void;
 
-pub fn glActiveTexture(real: impl Fn(GLenum), texture: GLenum) {
+pub(crate) fn glActiveTexture(real: impl Fn(GLenum), texture: GLenum) {
     crate::state::with_app(|app| app.units.active = texture.wrapping_sub(crate::gl::TEXTURE0));
 
     real(texture)
@@ -22,7 +23,7 @@ fn with_group(f: impl FnOnce(&crate::state::ShareGroup)) {
     }
 }
 
-pub fn glBindTexture(real: impl Fn(GLenum, GLuint), target: GLenum, texture: GLuint) {
+pub(crate) fn glBindTexture(real: impl Fn(GLenum, GLuint), target: GLenum, texture: GLuint) {
     if texture != 0 {
         with_group(|g| g.textures.bound(target, texture));
     }
@@ -32,42 +33,42 @@ pub fn glBindTexture(real: impl Fn(GLenum, GLuint), target: GLenum, texture: GLu
     real(target, texture)
 }
 
-pub fn glCreateTextures(
+pub(crate) fn glCreateTextures(
     real: impl Fn(GLenum, GLsizei, *mut GLuint),
     target: GLenum,
     n: GLsizei,
     textures: *mut GLuint,
 ) {
     real(target, n, textures);
-    with_group(|g| g.textures.created(target, names(n, textures)));
+    // SAFETY: `textures` has room for `n` names, which glCreateTextures has just written (with
+    // an invalid target it writes none, and we record what the app's array held: integers).
+    let made = unsafe { app_slice(textures, n) };
+    with_group(|g| g.textures.created(target, made));
 }
 
-pub fn glBindTextureUnit(real: impl Fn(GLuint, GLuint), unit: GLuint, texture: GLuint) {
+pub(crate) fn glBindTextureUnit(real: impl Fn(GLuint, GLuint), unit: GLuint, texture: GLuint) {
     crate::state::with_app(|app| app.units.bind(unit, texture));
     real(unit, texture)
 }
 
-pub fn glBindTextures(
+pub(crate) fn glBindTextures(
     real: impl Fn(GLuint, GLsizei, *const GLuint),
     first: GLuint,
     count: GLsizei,
     textures: *const GLuint,
 ) {
+    // SAFETY: glBindTextures reads `count` names from `textures`, or none when it is NULL
+    // (which unbinds them all).
+    let names = unsafe { app_slice(textures, count) };
     crate::state::with_app(|app| {
         for i in 0..count.max(0) as u32 {
-            // SAFETY: the app passes `count` names, or NULL to unbind them all.
-            let t = if textures.is_null() {
-                0
-            } else {
-                unsafe { *textures.add(i as usize) }
-            };
-            app.units.bind(first + i, t);
+            app.units.bind(first + i, names.get(i as usize).copied().unwrap_or(0));
         }
     });
     real(first, count, textures)
 }
 
-pub fn glGenerateMipmap(real: impl Fn(GLenum), target: GLenum) {
+pub(crate) fn glGenerateMipmap(real: impl Fn(GLenum), target: GLenum) {
     real(target);
     with_active(|_, app, mv, gl| {
         let tex = app.units.bound_2d.get(app.units.active as usize).copied().unwrap_or(0);
@@ -89,8 +90,7 @@ fn storage_changed(renderbuffer: bool, binding: GLenum) {
     });
 }
 
-#[allow(clippy::too_many_arguments)]
-pub fn glTexImage2D(
+pub(crate) fn glTexImage2D(
     real: impl Fn(GLenum, GLint, GLint, GLsizei, GLsizei, GLint, GLenum, GLenum, *const c_void),
     target: GLenum,
     level: GLint,
@@ -108,7 +108,7 @@ pub fn glTexImage2D(
     }
 }
 
-pub fn glTexStorage2D(
+pub(crate) fn glTexStorage2D(
     real: impl Fn(GLenum, GLsizei, GLenum, GLsizei, GLsizei),
     target: GLenum,
     levels: GLsizei,
@@ -122,7 +122,7 @@ pub fn glTexStorage2D(
     }
 }
 
-pub fn glRenderbufferStorage(
+pub(crate) fn glRenderbufferStorage(
     real: impl Fn(GLenum, GLenum, GLsizei, GLsizei),
     target: GLenum,
     format: GLenum,
@@ -133,7 +133,7 @@ pub fn glRenderbufferStorage(
     storage_changed(true, crate::gl::RENDERBUFFER_BINDING);
 }
 
-pub fn glRenderbufferStorageMultisample(
+pub(crate) fn glRenderbufferStorageMultisample(
     real: impl Fn(GLenum, GLsizei, GLenum, GLsizei, GLsizei),
     target: GLenum,
     samples: GLsizei,
@@ -167,7 +167,7 @@ fn reattached(target: GLenum, attachment: GLenum, name: u32, renderbuffer: bool)
     });
 }
 
-pub fn glFramebufferTexture2D(
+pub(crate) fn glFramebufferTexture2D(
     real: impl Fn(GLenum, GLenum, GLenum, GLuint, GLint),
     target: GLenum,
     att: GLenum,
@@ -179,7 +179,7 @@ pub fn glFramebufferTexture2D(
     reattached(target, att, tex, false);
 }
 
-pub fn glFramebufferTexture(
+pub(crate) fn glFramebufferTexture(
     real: impl Fn(GLenum, GLenum, GLuint, GLint),
     target: GLenum,
     att: GLenum,
@@ -190,7 +190,7 @@ pub fn glFramebufferTexture(
     reattached(target, att, tex, false);
 }
 
-pub fn glFramebufferRenderbuffer(
+pub(crate) fn glFramebufferRenderbuffer(
     real: impl Fn(GLenum, GLenum, GLenum, GLuint),
     target: GLenum,
     att: GLenum,
@@ -201,17 +201,10 @@ pub fn glFramebufferRenderbuffer(
     reattached(target, att, rb, true);
 }
 
-fn names<'a>(n: GLsizei, p: *const GLuint) -> &'a [GLuint] {
-    if p.is_null() || n <= 0 {
-        return &[];
-    }
-    // SAFETY: the app passes `n` names.
-    unsafe { std::slice::from_raw_parts(p, n as usize) }
-}
-
-pub fn glDeleteFramebuffers(real: impl Fn(GLsizei, *const GLuint), n: GLsizei, fbos: *const GLuint) {
+pub(crate) fn glDeleteFramebuffers(real: impl Fn(GLsizei, *const GLuint), n: GLsizei, fbos: *const GLuint) {
+    // SAFETY: glDeleteFramebuffers reads `n` names from `fbos`.
+    let gone = unsafe { app_slice(fbos, n) };
     with_active(|_, _, mv, gl| {
-        let gone = names(n, fbos);
         gone.iter().for_each(|f| {
             mv.unshadowable.remove(f);
             mv.has_color.remove(f);
@@ -221,24 +214,25 @@ pub fn glDeleteFramebuffers(real: impl Fn(GLsizei, *const GLuint), n: GLsizei, f
     real(n, fbos)
 }
 
-pub fn glDeleteTextures(real: impl Fn(GLsizei, *const GLuint), n: GLsizei, textures: *const GLuint) {
-    with_group(|g| g.textures.deleted(names(n, textures)));
-    with_active(|_, app, mv, gl| {
-        let gone = names(n, textures);
-        forget(gl, mv, |_, s| gone.iter().any(|&t| s.owns(t, false)));
+pub(crate) fn glDeleteTextures(real: impl Fn(GLsizei, *const GLuint), n: GLsizei, textures: *const GLuint) {
+    // SAFETY: glDeleteTextures reads `n` names from `textures`.
+    let gone = unsafe { app_slice(textures, n) };
+    with_group(|g| g.textures.deleted(gone));
+    with_active(|_, _, mv, gl| forget(gl, mv, |_, s| gone.iter().any(|&t| s.owns(t, false))));
+    // Deleting a bound texture unbinds it.
+    crate::state::with_app(|app| {
         app.units
             .bound_2d
             .iter_mut()
             .filter(|t| gone.contains(t))
-            .for_each(|t| *t = 0);
+            .for_each(|t| *t = 0)
     });
     real(n, textures)
 }
 
-pub fn glDeleteRenderbuffers(real: impl Fn(GLsizei, *const GLuint), n: GLsizei, rbs: *const GLuint) {
-    with_active(|_, _, mv, gl| {
-        let gone = names(n, rbs);
-        forget(gl, mv, |_, s| gone.iter().any(|&r| s.owns(r, true)));
-    });
+pub(crate) fn glDeleteRenderbuffers(real: impl Fn(GLsizei, *const GLuint), n: GLsizei, rbs: *const GLuint) {
+    // SAFETY: glDeleteRenderbuffers reads `n` names from `rbs`.
+    let gone = unsafe { app_slice(rbs, n) };
+    with_active(|_, _, mv, gl| forget(gl, mv, |_, s| gone.iter().any(|&r| s.owns(r, true))));
     real(n, rbs)
 }
