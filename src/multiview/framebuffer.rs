@@ -87,15 +87,7 @@ pub fn hand_back(gl: &Gl, mv: &Multiview) {
 }
 
 /// `glBindFramebuffer(target, fbo)`: records the app's binding; returns the name GL gets.
-pub fn bind(app: &mut AppState, mv: &mut Multiview, target: GLenum, fbo: u32) -> u32 {
-    match target {
-        DRAW_FRAMEBUFFER => app.draw_fbo = fbo,
-        READ_FRAMEBUFFER => app.read_fbo = fbo,
-        _ => {
-            app.draw_fbo = fbo;
-            app.read_fbo = fbo;
-        }
-    }
+pub fn bind(mv: &Multiview, fbo: u32) -> u32 {
     if fbo == 0 { mv.quilt_fbo().unwrap_or(0) } else { fbo }
 }
 

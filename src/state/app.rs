@@ -152,6 +152,36 @@ impl AppState {
         });
     }
 
+    /// `glBindFramebuffer(target, fbo)`.
+    pub fn bind_framebuffer(&mut self, target: GLenum, fbo: u32) {
+        match target {
+            crate::gl::DRAW_FRAMEBUFFER => self.draw_fbo = fbo,
+            crate::gl::READ_FRAMEBUFFER => self.read_fbo = fbo,
+            _ => {
+                self.draw_fbo = fbo;
+                self.read_fbo = fbo;
+            }
+        }
+    }
+
+    /// `glDrawBuffer(buf)`; true when it is framebuffer 0's choice.
+    pub fn set_draw_buffer(&mut self, buf: GLenum) -> bool {
+        let fb0 = self.draw_fbo == 0;
+        if fb0 {
+            self.draw_buffer = buf;
+        }
+        fb0
+    }
+
+    /// `glReadBuffer(buf)`; true when it is framebuffer 0's choice.
+    pub fn set_read_buffer(&mut self, buf: GLenum) -> bool {
+        let fb0 = self.read_fbo == 0;
+        if fb0 {
+            self.read_buffer = buf;
+        }
+        fb0
+    }
+
     /// `glIsEnabled(cap)` for the shadowed caps, asked of GL only when unknown.
     pub fn enabled(&mut self, gl: &Gl, cap: GLenum) -> bool {
         let slot = match cap {

@@ -8,32 +8,30 @@ use crate::multiview::framebuffer as fb;
 use core::ffi::c_void;
 
 pub(crate) fn glBindFramebuffer(real: impl Fn(GLenum, GLuint), target: GLenum, fbo: GLuint) {
-    let mapped = with_active(|_, app, mv, _| fb::bind(app, mv, target, fbo));
-
+    crate::state::with_app(|app| app.bind_framebuffer(target, fbo));
+    let mapped = with_active(|_, _, mv, _| fb::bind(mv, fbo));
     real(target, mapped.unwrap_or(fbo))
 }
 
+/// The quilt's attachment in place of framebuffer 0's `buf` (GL_BACK is invalid on a
+/// framebuffer object), when framebuffer 0 is the quilt.
+fn on_quilt(fb0: bool, buf: GLenum) -> Option<GLenum> {
+    fb0.then(|| with_active(|_, _, mv, _| mv.quilt_fbo().map(|_| fb::map_buffer(buf))))
+        .flatten()
+        .flatten()
+}
+
 /// The app's buffer choice for framebuffer 0 is remembered and answered back; GL gets the
-/// quilt's attachment instead (GL_BACK is invalid on a framebuffer object).
+/// quilt's attachment instead.
 pub(crate) fn glDrawBuffer(real: impl Fn(GLenum), buf: GLenum) {
-    let mapped = with_active(|_, app, mv, _| {
-        (mv.quilt_fbo().is_some() && app.draw_fbo == 0).then(|| {
-            app.draw_buffer = buf;
-            fb::map_buffer(buf)
-        })
-    });
-    real(mapped.flatten().unwrap_or(buf));
+    let fb0 = crate::state::with_app(|app| app.set_draw_buffer(buf)).unwrap_or(false);
+    real(on_quilt(fb0, buf).unwrap_or(buf));
     draw_buffers_changed(&[buf]);
 }
 
 pub(crate) fn glReadBuffer(real: impl Fn(GLenum), buf: GLenum) {
-    let mapped = with_active(|_, app, mv, _| {
-        (mv.quilt_fbo().is_some() && app.read_fbo == 0).then(|| {
-            app.read_buffer = buf;
-            fb::map_buffer(buf)
-        })
-    });
-    real(mapped.flatten().unwrap_or(buf))
+    let fb0 = crate::state::with_app(|app| app.set_read_buffer(buf)).unwrap_or(false);
+    real(on_quilt(fb0, buf).unwrap_or(buf))
 }
 
 /// New draw buffers on a shadowed framebuffer: its view framebuffers get the same (many
@@ -53,15 +51,14 @@ fn draw_buffers_changed(bufs: &[GLenum]) {
 pub(crate) fn glDrawBuffers(real: impl Fn(GLsizei, *const GLenum), n: GLsizei, bufs: *const GLenum) {
     // SAFETY: glDrawBuffers reads `n` buffer names from `bufs`.
     let asked = unsafe { super::super::app_slice(bufs, n) };
-    let on_fb0 = with_active(|_, app, mv, _| mv.quilt_fbo().is_some() && app.draw_fbo == 0).unwrap_or(false);
-    if !on_fb0 || asked.is_empty() {
+    let fb0 = !asked.is_empty() && crate::state::with_app(|app| app.set_draw_buffer(asked[0])).unwrap_or(false);
+    if on_quilt(fb0, asked.first().copied().unwrap_or(0)).is_none() {
         real(n, bufs);
         if !asked.is_empty() {
             draw_buffers_changed(asked);
         }
         return;
     }
-    crate::state::with_app(|app| app.draw_buffer = asked[0]);
     let mapped: Vec<GLenum> = asked.iter().map(|&b| fb::map_buffer(b)).collect();
     real(n, mapped.as_ptr())
 }
