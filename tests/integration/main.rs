@@ -16,4 +16,5 @@ mod launcher;
 mod layer_library;
 mod output_modes;
 mod real_programs;
+mod reattachment;
 mod sample_apps;

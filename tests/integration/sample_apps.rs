@@ -147,6 +147,7 @@ sample_app_tests! {
     framebuffers_glx: "framebuffers", "glx";
     framebuffers_egl: "framebuffers", "egl";
     framebuffers_osmesa: "framebuffers", "osmesa";
+    framebuffers_reattach_egl: "framebuffers --reattach", "egl";
     shadowmap_glx: "shadowmap", "glx";
     shadowmap_egl: "shadowmap", "egl";
     shadowmap_osmesa: "shadowmap", "osmesa";
@@ -270,6 +271,8 @@ fn no_gl_errors_reported_through_khr_debug() {
         "skybox",
         "compat120",
         "framebuffers",
+        "framebuffers --reattach",
+        "framebuffers --late-swizzle",
         "shadowmap",
         "deferred",
         "ssao",

@@ -3,6 +3,14 @@
 //! full-screen quad draws that texture to the default framebuffer with a
 //! sharpen kernel (texel offsets) and a vignette. Only the scene pass uses the
 //! camera; the post pass is in NDC and view-independent.
+//!
+//! `--reattach` follows VTK's render passes (f3d, ParaView): every frame the
+//! same texture and renderbuffer are attached again before the scene pass, the
+//! texture's sampling parameters are sent again, and the colour texture is
+//! detached after the pass, while the post pass samples it.
+//! `--late-swizzle` swaps red and blue of the scene texture through
+//! `GL_TEXTURE_SWIZZLE_R/B` from the second frame on: a sampling parameter
+//! changed after the first frame has used the texture.
 use holoapps::cli::{AppInfo, Options};
 use holoapps::gl::{self, Gl};
 use holoapps::math;
@@ -55,6 +63,9 @@ struct Framebuffers {
     quad: u32,
     fbo: u32,
     colour: u32,
+    depth: u32,
+    reattach: bool,
+    late_swizzle: bool,
     /// projection, view, model, objectColor, lightDir, viewPos, screenTexture
     loc: [i32; 7],
 }
@@ -97,8 +108,42 @@ impl Framebuffers {
             quad: mp::quad_vao(gl),
             fbo,
             colour,
+            depth,
+            reattach: o.switches.contains("reattach"),
+            late_swizzle: o.switches.contains("late-swizzle"),
             loc,
         })
+    }
+}
+
+impl Framebuffers {
+    /// VTK's per-pass attachment: the same objects again, parameters re-sent.
+    fn attach(&self, gl: &Gl) {
+        unsafe {
+            gl.FramebufferTexture2D(gl::FRAMEBUFFER, gl::COLOR_ATTACHMENT0, gl::TEXTURE_2D, self.colour, 0);
+            gl.FramebufferRenderbuffer(gl::FRAMEBUFFER, gl::DEPTH_ATTACHMENT, gl::RENDERBUFFER, self.depth);
+            gl.BindTexture(gl::TEXTURE_2D, self.colour);
+            gl.TexParameteri(gl::TEXTURE_2D, gl::TEXTURE_MIN_FILTER, gl::NEAREST as i32);
+            gl.TexParameteri(gl::TEXTURE_2D, gl::TEXTURE_MAG_FILTER, gl::NEAREST as i32);
+            gl.BindTexture(gl::TEXTURE_2D, 0);
+        }
+    }
+
+    /// VTK releases its colour attachments once a pass is drawn.
+    fn detach(&self, gl: &Gl) {
+        unsafe { gl.FramebufferTexture2D(gl::FRAMEBUFFER, gl::COLOR_ATTACHMENT0, gl::TEXTURE_2D, 0, 0) };
+    }
+
+    fn swizzle(&self, gl: &Gl, frame: u64) {
+        if !self.late_swizzle || frame == 0 {
+            return;
+        }
+        unsafe {
+            gl.BindTexture(gl::TEXTURE_2D, self.colour);
+            gl.TexParameteri(gl::TEXTURE_2D, gl::TEXTURE_SWIZZLE_R, gl::BLUE as i32);
+            gl.TexParameteri(gl::TEXTURE_2D, gl::TEXTURE_SWIZZLE_B, gl::RED as i32);
+            gl.BindTexture(gl::TEXTURE_2D, 0);
+        }
     }
 }
 
@@ -111,6 +156,9 @@ impl Scene for Framebuffers {
         unsafe {
             // Pass 1: the scene into the FBO, with view i's projection.
             gl.BindFramebuffer(gl::FRAMEBUFFER, self.fbo);
+            if self.reattach {
+                self.attach(gl);
+            }
             gl.Viewport(0, 0, w, h);
             gl.ClearColor(0.1, 0.12, 0.18, 1.0);
             gl.Enable(gl::DEPTH_TEST);
@@ -123,6 +171,10 @@ impl Scene for Framebuffers {
             mp::set_vec3(gl, l[5], mp::EYE);
             gl.BindVertexArray(self.cube);
             mp::draw_objects(gl, &mp::objects(seconds(frame)), l[2], l[3]);
+            if self.reattach {
+                self.detach(gl);
+            }
+            self.swizzle(gl, frame);
 
             // Pass 2: post effect to the default framebuffer.
             gl.BindFramebuffer(gl::FRAMEBUFFER, target);
@@ -143,7 +195,16 @@ fn main() -> ExitCode {
         about: "GL 3.3 core: lit scene into an FBO (RGBA8 texture + depth24 renderbuffer), then a sharpen + vignette full-screen pass",
         default_convergence: math::distance(mp::EYE, mp::CENTRE),
         extra: &[],
-        switches: &[],
+        switches: &[
+            (
+                "reattach",
+                "VTK's pattern: re-attach the same targets and re-send texture parameters every frame, detach the colour texture after the scene pass",
+            ),
+            (
+                "late-swizzle",
+                "swap red and blue of the scene texture (GL_TEXTURE_SWIZZLE_R/B) from frame 2 on",
+            ),
+        ],
     };
     holoapps::run::main(
         &info,
