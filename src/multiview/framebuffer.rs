@@ -53,9 +53,10 @@ pub fn rebind(gl: &Gl, app: &AppState, mv: &Multiview) {
 
 /// Before the layer gives up on a context (internal failure), the frame in progress moves to
 /// where the app believes it is: the centre view's tile into the real default framebuffer
-/// (colour, depth, stencil), and each shadowed framebuffer's centre layer into the app's own
-/// attachments. Without this, an app that reads back or keeps drawing after the failure would
-/// see the previous frame, or a quilt.
+/// (colour, depth, stencil), and the centre layer of every layered image into the app's own
+/// texture or renderbuffer, attached or not (a pass may sample it next). Without this, an
+/// app that reads back or keeps drawing after the failure would see the previous frame, or a
+/// quilt.
 pub fn hand_back(gl: &Gl, mv: &Multiview) {
     let centre = mv.camera.rig.centre();
     let mut caps = vec![SCISSOR_TEST];
@@ -65,8 +66,8 @@ pub fn hand_back(gl: &Gl, mv: &Multiview) {
     let _guard = crate::gl::guard::StateGuard::new(gl, mv.info)
         .framebuffers()
         .caps(&caps);
-    // SAFETY: blits from our quilt into framebuffer 0, and from our layers into the app's own
-    // framebuffers; bindings, scissor and sRGB restored by the guard, selections put back.
+    // SAFETY: blits from our quilt into framebuffer 0; bindings, scissor and sRGB restored by
+    // the guard.
     unsafe {
         caps.iter().for_each(|&c| gl.Disable(c));
         if let Some(t) = mv.target.as_ref() {
@@ -80,9 +81,9 @@ pub fn hand_back(gl: &Gl, mv: &Multiview) {
             let ds = DEPTH_BUFFER_BIT | STENCIL_BUFFER_BIT;
             gl.BlitFramebuffer(x, y, x + w, y + h, 0, 0, ww, wh, ds, NEAREST);
         }
-        for (&app_fbo, shadow) in &mv.shadows {
-            shadow.copy_back(gl, mv.info, app_fbo, centre as usize);
-        }
+    }
+    for image in mv.images.values() {
+        image.copy_back(gl, mv.info, centre);
     }
 }
 
@@ -177,11 +178,11 @@ pub fn on_real_target<R>(
 }
 
 /// Clears every layer of a shadowed framebuffer of the app.
-fn clear_layers(gl: &Gl, app: &AppState, mv: &Multiview, f: &impl Fn()) -> bool {
-    let Some(shadow) = mv.shadows.get(&app.draw_fbo).filter(|_| app.draw_fbo != 0) else {
+fn clear_layers(gl: &Gl, app: &AppState, mv: &mut Multiview, f: &impl Fn()) -> bool {
+    let Some(views) = super::layers::current_views(gl, mv, app.draw_fbo) else {
         return false;
     };
-    for &view in shadow.views.iter() {
+    for &view in views.iter() {
         // SAFETY: our view framebuffer; the app's binding is restored below.
         unsafe { gl.BindFramebuffer(DRAW_FRAMEBUFFER, view) };
         f();
@@ -193,7 +194,7 @@ fn clear_layers(gl: &Gl, app: &AppState, mv: &Multiview, f: &impl Fn()) -> bool 
 
 /// Clears every tile (or the app's scissored part of each) while framebuffer 0 is bound, and
 /// every layer of a shadowed framebuffer.
-pub fn clear(gl: &Gl, app: &mut AppState, mv: &Multiview, f: impl Fn()) {
+pub fn clear(gl: &Gl, app: &mut AppState, mv: &mut Multiview, f: impl Fn()) {
     if clear_layers(gl, app, mv, &f) {
         return;
     }
@@ -230,11 +231,11 @@ pub fn blit(gl: &Gl, app: &AppState, mv: &mut Multiview, src: [i32; 4], dst: [i3
     let corners = |r: [i32; 4]| [r[0], r[1], r[2] - r[0], r[3] - r[1]];
     let back = |r: [i32; 4]| [r[0], r[1], r[0] + r[2], r[1] + r[3]];
     let (read, draw) = (app.read_fbo, app.draw_fbo);
-    let src_layers = mv.shadows.get(&read).filter(|_| read != 0).map(|s| s.views.clone());
+    let src_layers = super::layers::current_views(gl, mv, read);
     let dst_layers = match (draw, &src_layers) {
         (0, _) => None,
         (_, Some(_)) => super::layers::ensure_shadow(gl, mv, draw, "a view-dependent framebuffer is blitted into it"),
-        (_, None) => mv.shadows.get(&draw).map(|s| s.views.clone()),
+        (_, None) => super::layers::current_views(gl, mv, draw),
     };
     let per_view = draw == 0 || src_layers.is_some() || dst_layers.is_some();
     if !per_view {
@@ -272,11 +273,11 @@ pub fn blit(gl: &Gl, app: &AppState, mv: &mut Multiview, src: [i32; 4], dst: [i3
 
 /// Reads from a shadowed framebuffer of the app come from the centre view's layer: binds it
 /// for reading (the caller rebinds with `rebind`).
-pub fn read_centre_layer(gl: &Gl, app: &AppState, mv: &Multiview) -> bool {
-    let Some(s) = mv.shadows.get(&app.read_fbo).filter(|_| app.read_fbo != 0) else {
+pub fn read_centre_layer(gl: &Gl, app: &AppState, mv: &mut Multiview) -> bool {
+    let Some(views) = super::layers::current_views(gl, mv, app.read_fbo) else {
         return false;
     };
-    let view = s.views[(mv.camera.rig.centre() as usize).min(s.views.len() - 1)];
+    let view = views[(mv.camera.rig.centre() as usize).min(views.len() - 1)];
     // SAFETY: our view framebuffer for reading.
     unsafe { gl.BindFramebuffer(READ_FRAMEBUFFER, view) };
     true

@@ -1,9 +1,14 @@
-//! Which draws go to layered shadows, and the per-view texture substitution (see `shadow`).
+//! Which draws go to layered shadows, building and rebuilding the shadows, and the per-view
+//! texture substitution (see `shadow` and `layered`; what the app's calls do to shadows and
+//! images is in `lifetime`).
 
 use super::Multiview;
-use super::shadow::{self, ShadowFbo};
+use super::layered::{AppImage, LayeredImage, Storage};
+use super::lifetime;
+use super::shadow::{self, Attached, ShadowFbo};
 use crate::gl::*;
 use crate::state::AppState;
+use std::collections::HashMap;
 use std::sync::Arc;
 
 /// Units whose bound texture has layer views: (unit, app texture, views).
@@ -12,12 +17,16 @@ pub type Substitutions = Vec<(u32, u32, Arc<[u32]>)>;
 /// Fills `subs` (emptied first; a vector kept from draw to draw, so that no draw allocates).
 pub fn substitutions(app: &AppState, mv: &Multiview, subs: &mut Substitutions) {
     subs.clear();
-    if mv.shadows.is_empty() {
+    if mv.images.is_empty() {
         return;
     }
     for (unit, &tex) in app.units.bound_2d.iter().enumerate().filter(|(_, t)| **t != 0) {
-        if let Some(views) = mv.shadows.values().find_map(|s| s.layer_views_of(tex)) {
-            subs.push((unit as u32, tex, views.clone()));
+        if let Some(image) = mv
+            .images
+            .get(&AppImage::texture(tex))
+            .filter(|i| !i.layer_views.is_empty())
+        {
+            subs.push((unit as u32, tex, image.layer_views.clone()));
         }
     }
 }
@@ -37,7 +46,26 @@ pub fn bind_layers(gl: &Gl, app: &AppState, subs: &Substitutions, i: Option<usiz
     }
 }
 
-/// Why a draw into the app's framebuffer `fbo` is view-dependent, if it is.
+/// What the layer knows of one of the app's framebuffers, asked of GL once per attachment
+/// change, not per draw (shadow-map passes draw a lot).
+pub struct FboFacts {
+    pub has_color: bool,
+    pub objects: Vec<AppImage>,
+}
+
+fn facts<'a>(gl: &Gl, all: &'a mut HashMap<u32, FboFacts>, fbo: u32) -> &'a FboFacts {
+    all.entry(fbo).or_insert_with(|| {
+        let found = shadow::attachments(gl, fbo);
+        FboFacts {
+            has_color: found.iter().any(|(p, _, _)| shadow::is_color(*p)),
+            objects: found.iter().map(|(_, a, _)| *a).collect(),
+        }
+    })
+}
+
+/// Why a draw into the app's framebuffer `fbo` is view-dependent, if it is. A framebuffer
+/// holding an object that has per-view content must be drawn per view, whatever the draw:
+/// drawn once, it would write the app's object, which nothing samples any more.
 pub fn dependence(
     gl: &Gl,
     mv: &mut Multiview,
@@ -52,21 +80,20 @@ pub fn dependence(
         FboViews::Auto => {}
     }
     if !subs.is_empty() {
-        Some("it samples a view-dependent texture")
-    } else if camera_draw
-        && *mv
-            .has_color
-            .entry(fbo)
-            .or_insert_with(|| shadow::has_color_attachment(gl, fbo))
-    {
+        return Some("it samples a view-dependent texture");
+    }
+    let facts = facts(gl, &mut mv.fbo_facts, fbo);
+    if facts.objects.iter().any(|o| mv.images.contains_key(o)) {
+        Some("it holds view-dependent images")
+    } else if camera_draw && facts.has_color {
         Some("the main camera draws into it")
     } else {
         None
     }
 }
 
-/// The per-view framebuffers for a draw into the app's `fbo`, creating its shadow when the
-/// draw makes it view-dependent.
+/// The per-view framebuffers for a draw into the app's `fbo`, creating (or bringing up to
+/// date) its shadow when the draw makes it view-dependent.
 pub fn target_views(
     gl: &Gl,
     mv: &mut Multiview,
@@ -74,13 +101,14 @@ pub fn target_views(
     camera_draw: bool,
     subs: &Substitutions,
 ) -> Option<Arc<[u32]>> {
-    if let Some(s) = mv.shadows.get(&fbo) {
+    if let Some(s) = mv.shadows.get(&fbo).filter(|s| !s.stale) {
         return Some(s.views.clone());
     }
-    if mv.unshadowable.contains(&fbo) || !shadow::supported(gl, mv.info) {
+    if mv.unshadowable.contains_key(&fbo) || !shadow::supported(gl, mv.info) {
         return None;
     }
     let Some(why) = dependence(gl, mv, fbo, camera_draw, subs) else {
+        lifetime::drop_shadow(gl, mv, fbo);
         if mv.drawn_once.insert(fbo) {
             crate::log::info(format_args!(
                 "framebuffer {fbo}: pass drawn once for all views (not view-dependent)"
@@ -91,51 +119,118 @@ pub fn target_views(
     ensure_shadow(gl, mv, fbo, why)
 }
 
-/// Creates the shadow of `fbo` (logged once, with the reason).
-pub fn ensure_shadow(gl: &Gl, mv: &mut Multiview, fbo: u32, why: &str) -> Option<Arc<[u32]>> {
-    if let Some(s) = mv.shadows.get(&fbo) {
-        return Some(s.views.clone());
-    }
-    if mv.unshadowable.contains(&fbo)
-        || !shadow::supported(gl, mv.info)
-        || mv.settings.fbo_views == crate::config::FboViews::None
-    {
+/// The per-view framebuffers of `fbo` for a clear, a blit or a read: its shadow, brought up
+/// to date, or a new one if it holds view-dependent images; `None` for framebuffers drawn
+/// once.
+pub fn current_views(gl: &Gl, mv: &mut Multiview, fbo: u32) -> Option<Arc<[u32]>> {
+    if fbo == 0 || !mv.shadows.contains_key(&fbo) && mv.images.is_empty() {
         return None;
     }
-    let n = mv.camera.rig.views;
-    // Texture targets are the share group's: the attachments may come from another context.
-    let group = crate::state::with_current(|cur| cur.map(|cur| cur.ctx.group.clone()));
-    let target_of = |t| group.as_ref().map_or(0, |g| g.textures.target_of(t));
-    match ShadowFbo::create(gl, mv.info, fbo, n, target_of) {
-        Ok(s) => {
-            crate::log::info(format_args!(
-                "framebuffer {fbo} shadowed with {n} layers ({}x{}): {why}",
-                s.size.0, s.size.1
-            ));
-            let views = s.views.clone();
-            mv.shadows.insert(fbo, s);
-            Some(views)
-        }
-        Err(e) => {
-            crate::log::info(format_args!("framebuffer {fbo} stays single-view: {e}"));
-            mv.unshadowable.insert(fbo);
+    if let Some(s) = mv.shadows.get(&fbo).filter(|s| !s.stale) {
+        return Some(s.views.clone());
+    }
+    if mv.unshadowable.contains_key(&fbo) || !shadow::supported(gl, mv.info) {
+        return None;
+    }
+    match dependence(gl, mv, fbo, false, &Vec::new()) {
+        Some(why) => ensure_shadow(gl, mv, fbo, why),
+        None => {
+            lifetime::drop_shadow(gl, mv, fbo);
             None
         }
     }
 }
 
-/// Drops shadows that no longer match the app's objects (re-attached, resized, deleted).
-pub fn forget(gl: &Gl, mv: &mut Multiview, pred: impl Fn(u32, &ShadowFbo) -> bool) {
-    let stale: Vec<u32> = mv
-        .shadows
-        .iter()
-        .filter(|(f, s)| pred(**f, s))
-        .map(|(f, _)| *f)
-        .collect();
-    for fbo in stale {
-        if let Some(s) = mv.shadows.remove(&fbo) {
-            crate::log::debug(format_args!("framebuffer {fbo}: shadow dropped"));
-            s.delete(gl);
+/// Creates the shadow of `fbo`, or points a stale one at the app's current attachments.
+/// Logged once per framebuffer at `info`; rebuilds at `debug`.
+pub fn ensure_shadow(gl: &Gl, mv: &mut Multiview, fbo: u32, why: &str) -> Option<Arc<[u32]>> {
+    if let Some(s) = mv.shadows.get(&fbo).filter(|s| !s.stale) {
+        return Some(s.views.clone());
+    }
+    if mv.unshadowable.contains_key(&fbo)
+        || !shadow::supported(gl, mv.info)
+        || mv.settings.fbo_views == crate::config::FboViews::None
+    {
+        return None;
+    }
+    match build(gl, mv, fbo) {
+        Ok(views) => {
+            let (n, (w, h)) = (views.len(), mv.shadows[&fbo].size);
+            if mv.announced.insert((fbo, true)) {
+                crate::log::info(format_args!(
+                    "framebuffer {fbo} shadowed with {n} layers ({w}x{h}): {why}"
+                ));
+            } else {
+                crate::log::debug(format_args!("framebuffer {fbo}: shadow re-attached ({w}x{h}): {why}"));
+            }
+            Some(views)
+        }
+        Err(e) => {
+            if mv.announced.insert((fbo, false)) {
+                crate::log::info(format_args!("framebuffer {fbo} stays single-view: {e}"));
+            } else {
+                crate::log::debug(format_args!("framebuffer {fbo} stays single-view: {e}"));
+            }
+            lifetime::give_up(gl, mv, fbo);
+            None
         }
     }
+}
+
+/// The shadow of `fbo` over the images of what it has attached now (kept when they exist,
+/// made from the app's content when not); its views. Every attachment is checked
+/// before any image is made, so that a framebuffer that cannot be shadowed costs no layers.
+fn build(gl: &Gl, mv: &mut Multiview, fbo: u32) -> Result<Arc<[u32]>, String> {
+    let n = mv.camera.rig.views;
+    let found = shadow::attachments(gl, fbo);
+    if found.is_empty() {
+        return Err(format!("framebuffer {fbo} has no attachments"));
+    }
+    // Texture targets are the share group's: the attachments may come from another context.
+    let group = crate::state::with_current(|cur| cur.map(|cur| cur.ctx.group.clone()));
+    let target_of = |t| group.as_ref().map_or(0, |g| g.textures.target_of(t));
+    let mut checked = Vec::new();
+    for (point, app, level) in found {
+        if level != 0 {
+            return Err(format!("framebuffer {fbo}: attachment {point:#x} is not mip level 0"));
+        }
+        let target = if app.renderbuffer {
+            RENDERBUFFER
+        } else {
+            target_of(app.name)
+        };
+        checked.push((point, app, super::layered::storage(gl, app, target)?));
+    }
+    let (mut wanted, mut size) = (Vec::new(), (i32::MAX, i32::MAX));
+    for (point, app, storage) in checked {
+        let array = obtain(gl, mv, app, storage, point, n)?.array;
+        size = (size.0.min(storage.width), size.1.min(storage.height));
+        wanted.push(Attached { point, app, array });
+    }
+    let info = mv.info;
+    let shadow = mv.shadows.entry(fbo).or_insert_with(|| ShadowFbo::new(gl, n));
+    shadow.attach(gl, info, fbo, wanted, size)?;
+    Ok(shadow.views.clone())
+}
+
+/// The image of `app`: the one it has if its storage is still `storage`, else a new one made
+/// from the app's content (`point`: where it is attached). The storage may have changed
+/// behind the hooks (in another context of the share group, or through a call the layer does
+/// not wrap): the image follows what GL says.
+fn obtain<'a>(
+    gl: &Gl,
+    mv: &'a mut Multiview,
+    app: AppImage,
+    storage: Storage,
+    point: GLenum,
+    n: u32,
+) -> Result<&'a LayeredImage, String> {
+    if mv.images.get(&app).is_some_and(|i| i.storage != storage) {
+        lifetime::drop_image(gl, mv, app);
+    }
+    if !mv.images.contains_key(&app) {
+        let image = LayeredImage::create(gl, mv.info, app, storage, point, n)?;
+        mv.images.insert(app, image);
+    }
+    Ok(&mv.images[&app])
 }

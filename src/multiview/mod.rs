@@ -19,11 +19,14 @@
 
 pub mod framebuffer;
 pub mod immediate;
+pub mod layered;
 pub mod layers;
 pub mod layout;
+pub mod lifetime;
 pub mod link;
 pub mod raster;
 pub mod replay;
+pub mod sampling;
 pub mod screen_space;
 pub mod shadow;
 pub mod shift;
@@ -49,14 +52,18 @@ pub struct Multiview {
     /// The display list recording an immediate-mode block (`glBegin`..`glEnd`) for replay.
     pub immediate_list: u32,
     pub recording_immediate: bool,
-    /// Layered shadows of the app's framebuffers, by app name; those that cannot be.
+    /// Layered shadows of the app's framebuffers, by app name; those that cannot be, with
+    /// what they had attached then (see `shadow::attachments`).
     pub shadows: HashMap<u32, shadow::ShadowFbo>,
-    pub unshadowable: HashSet<u32>,
-    /// Whether each of the app's framebuffers has a colour attachment (asked of GL once per
-    /// attachment change, not per draw: shadow-map passes draw a lot).
-    pub has_color: HashMap<u32, bool>,
-    /// Framebuffers already logged as drawn once (not view-dependent).
+    pub unshadowable: HashMap<u32, Vec<shadow::Found>>,
+    /// The per-view content of the app's textures and renderbuffers that shadows draw into.
+    pub images: HashMap<layered::AppImage, layered::LayeredImage>,
+    /// What each of the app's framebuffers has attached (see `layers::FboFacts`).
+    pub fbo_facts: HashMap<u32, layers::FboFacts>,
+    /// Framebuffers already logged as drawn once (not view-dependent), and as shadowed (true)
+    /// or refused (false): each is said once at `info`.
     pub drawn_once: HashSet<u32>,
+    pub announced: HashSet<(u32, bool)>,
     /// Kept from draw to draw so that replays do not allocate.
     pub substitutions: layers::Substitutions,
     pub camera_uniforms: Vec<screen_space::CameraUniform>,
@@ -80,8 +87,10 @@ impl Multiview {
             recording_immediate: false,
             shadows: Default::default(),
             unshadowable: Default::default(),
+            images: Default::default(),
+            fbo_facts: Default::default(),
             drawn_once: Default::default(),
-            has_color: Default::default(),
+            announced: Default::default(),
             substitutions: Vec::new(),
             camera_uniforms: Vec::new(),
             sheared: Default::default(),
@@ -104,16 +113,16 @@ impl Multiview {
     }
 
     /// What of ours outlives this context in its share group: every texture, renderbuffer
-    /// and display list (framebuffers and vertex arrays are per context).
+    /// and display list (framebuffers and vertex arrays are per context, so the shadows'
+    /// view framebuffers die with it).
     pub fn shared_objects(&self) -> LayerObjects {
         let mut o = LayerObjects::default();
         if let Some(t) = &self.target {
             o.textures.push(t.color);
             o.renderbuffers.push(t.depth);
         }
-        for a in self.shadows.values().flat_map(|s| &s.attachments) {
-            o.textures.push(a.array);
-            o.textures.extend(a.layer_views.iter());
+        for image in self.images.values() {
+            o.textures.extend(image.textures());
         }
         o.lists.push(self.immediate_list);
         o.without_zeros()

@@ -1,5 +1,6 @@
 //! GL entry points, grouped by what the layer does with them.
 
+mod attachment;
 mod buffer;
 mod frame;
 mod framebuffer;
@@ -9,8 +10,10 @@ mod program;
 mod query;
 mod raster;
 mod shadowed;
+mod texparam;
 mod texture;
 
+pub(crate) use attachment::*;
 pub(crate) use buffer::*;
 pub(crate) use frame::*;
 pub(crate) use framebuffer::*;
@@ -20,6 +23,7 @@ pub(crate) use program::*;
 pub(crate) use query::*;
 pub(crate) use raster::*;
 pub(crate) use shadowed::*;
+pub(crate) use texparam::*;
 pub(crate) use texture::*;
 
 /// The handler of every `view` entry of the policy table (generated shims call it with the

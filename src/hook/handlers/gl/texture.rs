@@ -1,11 +1,13 @@
-//! Texture units and the objects behind layered shadows: the bindings the per-view texture
-//! substitution needs, and every call that makes a shadow stale (re-attachment, new storage,
-//! deletion) or needs mirroring (mipmaps).
+//! Texture units and the objects behind layered images: the bindings the per-view texture
+//! substitution needs, and every call that may retire an image (new storage or content,
+//! deletion) or needs mirroring (mipmaps). Attachments are in `attachment`, sampling
+//! parameters in `texparam`.
 
 use super::super::app_slice;
 use crate::gl::types::*;
 use crate::hook::layer::with_active;
-use crate::multiview::layers::forget;
+use crate::multiview::layered::AppImage;
+use crate::multiview::lifetime;
 use core::ffi::c_void;
 
 pub(crate) fn glActiveTexture(real: impl Fn(GLenum), texture: GLenum) {
@@ -73,20 +75,39 @@ pub(crate) fn glGenerateMipmap(real: impl Fn(GLenum), target: GLenum) {
     with_active(|_, app, mv, gl| {
         let tex = app.units.bound_2d.get(app.units.active as usize).copied().unwrap_or(0);
         if target == crate::gl::TEXTURE_2D && tex != 0 {
-            mv.shadows.values().for_each(|s| s.generate_mipmaps(gl, tex));
+            lifetime::mipmaps_generated(gl, mv, tex);
         }
     });
 }
 
-/// The texture bound to `binding` (a `GL_TEXTURE_BINDING_*` or `GL_RENDERBUFFER_BINDING`).
+/// The object bound to `binding` (a `GL_TEXTURE_BINDING_*` or `GL_RENDERBUFFER_BINDING`).
 fn bound(gl: &crate::gl::Gl, binding: GLenum) -> u32 {
     crate::gl::guard::get_i(gl, binding) as u32
 }
 
-fn storage_changed(renderbuffer: bool, binding: GLenum) {
+/// Storage given to the bound object; `data`: the texel source of a `glTexImage2D` (uploads
+/// when not NULL, or when an unpack buffer is bound). Its image stays if nothing changed (see
+/// `lifetime::storage_changed`).
+fn storage_changed(target: GLenum, binding: GLenum, data: Option<*const c_void>) {
     with_active(|_, _, mv, gl| {
-        let name = bound(gl, binding);
-        forget(gl, mv, |_, s| s.owns(name, renderbuffer));
+        if mv.images.is_empty() {
+            return;
+        }
+        let renderbuffer = target == crate::gl::RENDERBUFFER;
+        let app = AppImage {
+            name: bound(gl, binding),
+            renderbuffer,
+        };
+        let uploads = data.is_some_and(|d| !d.is_null() || bound(gl, crate::gl::PIXEL_UNPACK_BUFFER_BINDING) != 0);
+        lifetime::storage_changed(gl, mv, app, target, uploads);
+    });
+}
+
+/// Storage given to `name` through direct state access.
+fn named_storage_changed(name: u32, renderbuffer: bool, target: GLenum) {
+    with_active(|_, _, mv, gl| {
+        let app = AppImage { name, renderbuffer };
+        lifetime::storage_changed(gl, mv, app, target, false);
     });
 }
 
@@ -104,7 +125,7 @@ pub(crate) fn glTexImage2D(
 ) {
     real(target, level, internal, w, h, border, format, ty, data);
     if target == crate::gl::TEXTURE_2D && level == 0 {
-        storage_changed(false, crate::gl::TEXTURE_BINDING_2D);
+        storage_changed(target, crate::gl::TEXTURE_BINDING_2D, Some(data));
     }
 }
 
@@ -118,8 +139,50 @@ pub(crate) fn glTexStorage2D(
 ) {
     real(target, levels, format, w, h);
     if target == crate::gl::TEXTURE_2D {
-        storage_changed(false, crate::gl::TEXTURE_BINDING_2D);
+        storage_changed(target, crate::gl::TEXTURE_BINDING_2D, None);
     }
+}
+
+pub(crate) fn glTexImage2DMultisample(
+    real: impl Fn(GLenum, GLsizei, GLenum, GLsizei, GLsizei, GLboolean),
+    target: GLenum,
+    samples: GLsizei,
+    format: GLenum,
+    w: GLsizei,
+    h: GLsizei,
+    fixed: GLboolean,
+) {
+    real(target, samples, format, w, h, fixed);
+    if target == crate::gl::TEXTURE_2D_MULTISAMPLE {
+        storage_changed(target, crate::gl::TEXTURE_BINDING_2D_MULTISAMPLE, None);
+    }
+}
+
+pub(crate) fn glTexStorage2DMultisample(
+    real: impl Fn(GLenum, GLsizei, GLenum, GLsizei, GLsizei, GLboolean),
+    target: GLenum,
+    samples: GLsizei,
+    format: GLenum,
+    w: GLsizei,
+    h: GLsizei,
+    fixed: GLboolean,
+) {
+    real(target, samples, format, w, h, fixed);
+    if target == crate::gl::TEXTURE_2D_MULTISAMPLE {
+        storage_changed(target, crate::gl::TEXTURE_BINDING_2D_MULTISAMPLE, None);
+    }
+}
+
+pub(crate) fn glTextureStorage2D(
+    real: impl Fn(GLuint, GLsizei, GLenum, GLsizei, GLsizei),
+    texture: GLuint,
+    levels: GLsizei,
+    format: GLenum,
+    w: GLsizei,
+    h: GLsizei,
+) {
+    real(texture, levels, format, w, h);
+    named_storage_changed(texture, false, crate::gl::TEXTURE_2D);
 }
 
 pub(crate) fn glRenderbufferStorage(
@@ -130,7 +193,7 @@ pub(crate) fn glRenderbufferStorage(
     h: GLsizei,
 ) {
     real(target, format, w, h);
-    storage_changed(true, crate::gl::RENDERBUFFER_BINDING);
+    storage_changed(crate::gl::RENDERBUFFER, crate::gl::RENDERBUFFER_BINDING, None);
 }
 
 pub(crate) fn glRenderbufferStorageMultisample(
@@ -142,75 +205,36 @@ pub(crate) fn glRenderbufferStorageMultisample(
     h: GLsizei,
 ) {
     real(target, samples, format, w, h);
-    storage_changed(true, crate::gl::RENDERBUFFER_BINDING);
+    storage_changed(crate::gl::RENDERBUFFER, crate::gl::RENDERBUFFER_BINDING, None);
 }
 
-/// The app's framebuffer bound to `target` got `name` at `attachment`: its shadow is rebuilt
-/// on demand, unless the same object is attached again (some renderers re-attach every frame;
-/// rebuilding N layers each time would cost far more than the draw).
-fn reattached(target: GLenum, attachment: GLenum, name: u32, renderbuffer: bool) {
-    with_active(|_, app, mv, gl| {
-        let fbo = if target == crate::gl::READ_FRAMEBUFFER {
-            app.read_fbo
-        } else {
-            app.draw_fbo
-        };
-        mv.has_color.remove(&fbo);
-        let same = mv
-            .shadows
-            .get(&fbo)
-            .is_some_and(|s| s.attached(attachment) == Some((name, renderbuffer)));
-        if !same {
-            mv.unshadowable.remove(&fbo);
-            forget(gl, mv, |f, _| f == fbo);
-        }
-    });
-}
-
-pub(crate) fn glFramebufferTexture2D(
-    real: impl Fn(GLenum, GLenum, GLenum, GLuint, GLint),
-    target: GLenum,
-    att: GLenum,
-    textarget: GLenum,
-    tex: GLuint,
-    level: GLint,
-) {
-    real(target, att, textarget, tex, level);
-    reattached(target, att, tex, false);
-}
-
-pub(crate) fn glFramebufferTexture(
-    real: impl Fn(GLenum, GLenum, GLuint, GLint),
-    target: GLenum,
-    att: GLenum,
-    tex: GLuint,
-    level: GLint,
-) {
-    real(target, att, tex, level);
-    reattached(target, att, tex, false);
-}
-
-pub(crate) fn glFramebufferRenderbuffer(
-    real: impl Fn(GLenum, GLenum, GLenum, GLuint),
-    target: GLenum,
-    att: GLenum,
-    rbt: GLenum,
+pub(crate) fn glNamedRenderbufferStorage(
+    real: impl Fn(GLuint, GLenum, GLsizei, GLsizei),
     rb: GLuint,
+    format: GLenum,
+    w: GLsizei,
+    h: GLsizei,
 ) {
-    real(target, att, rbt, rb);
-    reattached(target, att, rb, true);
+    real(rb, format, w, h);
+    named_storage_changed(rb, true, crate::gl::RENDERBUFFER);
+}
+
+pub(crate) fn glNamedRenderbufferStorageMultisample(
+    real: impl Fn(GLuint, GLsizei, GLenum, GLsizei, GLsizei),
+    rb: GLuint,
+    samples: GLsizei,
+    format: GLenum,
+    w: GLsizei,
+    h: GLsizei,
+) {
+    real(rb, samples, format, w, h);
+    named_storage_changed(rb, true, crate::gl::RENDERBUFFER);
 }
 
 pub(crate) fn glDeleteFramebuffers(real: impl Fn(GLsizei, *const GLuint), n: GLsizei, fbos: *const GLuint) {
     // SAFETY: glDeleteFramebuffers reads `n` names from `fbos`.
     let gone = unsafe { app_slice(fbos, n) };
-    with_active(|_, _, mv, gl| {
-        gone.iter().for_each(|f| {
-            mv.unshadowable.remove(f);
-            mv.has_color.remove(f);
-        });
-        forget(gl, mv, |f, _| gone.contains(&f));
-    });
+    with_active(|_, _, mv, gl| lifetime::framebuffers_deleted(gl, mv, gone));
     real(n, fbos)
 }
 
@@ -218,7 +242,7 @@ pub(crate) fn glDeleteTextures(real: impl Fn(GLsizei, *const GLuint), n: GLsizei
     // SAFETY: glDeleteTextures reads `n` names from `textures`.
     let gone = unsafe { app_slice(textures, n) };
     with_group(|g| g.textures.deleted(gone));
-    with_active(|_, _, mv, gl| forget(gl, mv, |_, s| gone.iter().any(|&t| s.owns(t, false))));
+    with_active(|_, _, mv, gl| lifetime::objects_deleted(gl, mv, gone.iter().map(|&t| AppImage::texture(t))));
     // Deleting a bound texture unbinds it.
     crate::state::with_app(|app| {
         app.units
@@ -233,6 +257,10 @@ pub(crate) fn glDeleteTextures(real: impl Fn(GLsizei, *const GLuint), n: GLsizei
 pub(crate) fn glDeleteRenderbuffers(real: impl Fn(GLsizei, *const GLuint), n: GLsizei, rbs: *const GLuint) {
     // SAFETY: glDeleteRenderbuffers reads `n` names from `rbs`.
     let gone = unsafe { app_slice(rbs, n) };
-    with_active(|_, _, mv, gl| forget(gl, mv, |_, s| gone.iter().any(|&r| s.owns(r, true))));
+    let gone = gone.iter().map(|&name| AppImage {
+        name,
+        renderbuffer: true,
+    });
+    with_active(|_, _, mv, gl| lifetime::objects_deleted(gl, mv, gone));
     real(n, rbs)
 }

@@ -1,0 +1,256 @@
+//! The N-layer stand-in for one of the app's textures or renderbuffers.
+//!
+//! A layered image belongs to the app's object, not to a framebuffer: renderers built on
+//! render passes (VTK: f3d, ParaView) attach a texture for one pass, detach it once the pass
+//! is drawn, sample it in the next pass, and attach it again next frame, possibly to another
+//! framebuffer. The per-view content lives as long as the object and its storage do, so
+//! framebuffer shadows (`shadow`) are only sets of view framebuffers pointing at images, and
+//! can be rebuilt at any time without losing what the frame has drawn. An image is made from
+//! the app's own content (a shadow made mid-frame, or of a target rendered once, must not
+//! start empty) and gives the centre layer back when the layer gives up.
+//!
+//! Sampling goes through one `GL_TEXTURE_2D` view per layer, which has sampling parameters
+//! of its own: they are copied from the app's texture when the views are made, and the
+//! app's later changes are mirrored (`mirror`).
+
+use crate::gl::GlInfo;
+use crate::gl::types::GLbitfield;
+use crate::gl::*;
+use std::sync::Arc;
+
+/// One of the app's textures or renderbuffers (separate name spaces).
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
+pub struct AppImage {
+    pub name: u32,
+    pub renderbuffer: bool,
+}
+
+impl AppImage {
+    pub fn texture(name: u32) -> AppImage {
+        AppImage {
+            name,
+            renderbuffer: false,
+        }
+    }
+}
+
+/// The storage of an object's level 0: an image is kept while it stays the same.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub struct Storage {
+    pub format: GLenum,
+    pub width: i32,
+    pub height: i32,
+    pub samples: i32,
+}
+
+pub struct LayeredImage {
+    pub app: AppImage,
+    pub storage: Storage,
+    /// Which buffers it holds (colour, or depth and/or stencil), for the copies.
+    pub buffers: GLbitfield,
+    pub array: u32,
+    /// Per-layer `GL_TEXTURE_2D` views for sampling (single-sample textures only); shared
+    /// with the draws that substitute them, without copying.
+    pub layer_views: Arc<[u32]>,
+}
+
+/// The storage of `app` now. GL_TEXTURE_TARGET is not queryable on every driver (Mesa 22.3
+/// raises an error), so a texture's target comes from the app's own binds (`target`).
+pub fn storage(gl: &Gl, app: AppImage, target: GLenum) -> Result<Storage, String> {
+    let name = app.name;
+    let mut v = [0i32; 4];
+    // SAFETY: existence checks, then single-integer queries on the app's object names.
+    unsafe {
+        if app.renderbuffer {
+            if gl.IsRenderbuffer(name) == 0 {
+                return Err(format!("renderbuffer {name} does not exist"));
+            }
+            let pnames = [
+                RENDERBUFFER_INTERNAL_FORMAT,
+                RENDERBUFFER_WIDTH,
+                RENDERBUFFER_HEIGHT,
+                RENDERBUFFER_SAMPLES,
+            ];
+            for (v, p) in v.iter_mut().zip(pnames) {
+                gl.GetNamedRenderbufferParameteriv(name, p, v);
+            }
+        } else {
+            if target != TEXTURE_2D && target != TEXTURE_2D_MULTISAMPLE {
+                return Err(format!("texture {name}: target {target:#x} is not shadowed (2D only)"));
+            }
+            if gl.IsTexture(name) == 0 {
+                return Err(format!("texture {name} does not exist"));
+            }
+            let pnames = [TEXTURE_INTERNAL_FORMAT, TEXTURE_WIDTH, TEXTURE_HEIGHT, TEXTURE_SAMPLES];
+            for (v, p) in v.iter_mut().zip(pnames) {
+                gl.GetTextureLevelParameteriv(name, 0, p, v);
+            }
+        }
+    }
+    Ok(Storage {
+        format: v[0] as GLenum,
+        width: v[1],
+        height: v[2],
+        samples: v[3],
+    })
+}
+
+/// Immutable storage needs a sized format; `glTexImage2D` keeps the unsized one it was given.
+fn sized(format: GLenum) -> Result<GLenum, String> {
+    Ok(match format {
+        RGBA => RGBA8,
+        RGB => RGB8,
+        RG => RG8,
+        RED => R8,
+        DEPTH_COMPONENT => DEPTH_COMPONENT24,
+        DEPTH_STENCIL => DEPTH24_STENCIL8,
+        ALPHA | LUMINANCE | LUMINANCE_ALPHA | INTENSITY => {
+            return Err(format!("format {format:#x} has no sized equivalent"));
+        }
+        sized => sized,
+    })
+}
+
+/// Mip levels the layers need: the app's, or the full chain when a mipmapping filter on a
+/// single level says glGenerateMipmap comes later (immutable storage cannot grow).
+fn levels(gl: &Gl, app: AppImage, s: Storage) -> i32 {
+    if app.renderbuffer || s.samples > 0 {
+        return 1;
+    }
+    let (mut levels, mut filter) = (1, 0);
+    // SAFETY: single-integer queries on the app's texture.
+    unsafe {
+        while levels < 16 {
+            let mut w = 0;
+            gl.GetTextureLevelParameteriv(app.name, levels, TEXTURE_WIDTH, &mut w);
+            if w == 0 {
+                break;
+            }
+            levels += 1;
+        }
+        gl.GetTextureParameteriv(app.name, TEXTURE_MIN_FILTER, &mut filter);
+    }
+    if matches!(filter as GLenum, NEAREST | LINEAR) {
+        levels
+    } else {
+        levels.max(32 - (s.width.max(s.height).max(1) as u32).leading_zeros() as i32)
+    }
+}
+
+/// The framebuffer attachment point for an image holding `buffers`.
+fn point(buffers: GLbitfield) -> GLenum {
+    match buffers {
+        COLOR_BUFFER_BIT => COLOR_ATTACHMENT0,
+        DEPTH_BUFFER_BIT => DEPTH_ATTACHMENT,
+        STENCIL_BUFFER_BIT => STENCIL_ATTACHMENT,
+        _ => DEPTH_STENCIL_ATTACHMENT,
+    }
+}
+
+/// The buffers an attachment at `point` holds.
+pub fn buffers_at(point: GLenum) -> GLbitfield {
+    match point {
+        DEPTH_ATTACHMENT => DEPTH_BUFFER_BIT,
+        STENCIL_ATTACHMENT => STENCIL_BUFFER_BIT,
+        DEPTH_STENCIL_ATTACHMENT => DEPTH_BUFFER_BIT | STENCIL_BUFFER_BIT,
+        _ => COLOR_BUFFER_BIT,
+    }
+}
+
+impl LayeredImage {
+    /// A new image of `n` layers for `app`, attached at `point`, each layer a copy of the
+    /// app's content.
+    pub fn create(gl: &Gl, info: GlInfo, app: AppImage, s: Storage, point: GLenum, n: u32) -> Result<Self, String> {
+        let format = sized(s.format)?;
+        let levels = levels(gl, app, s);
+        let mut array = 0;
+        // SAFETY: creating our own immutable array.
+        unsafe {
+            if s.samples > 0 {
+                gl.CreateTextures(TEXTURE_2D_MULTISAMPLE_ARRAY, 1, &mut array);
+                gl.TextureStorage3DMultisample(array, s.samples, format, s.width, s.height, n as i32, TRUE);
+            } else {
+                gl.CreateTextures(TEXTURE_2D_ARRAY, 1, &mut array);
+                gl.TextureStorage3D(array, levels, format, s.width, s.height, n as i32);
+            }
+        }
+        let layer_views = if app.renderbuffer || s.samples > 0 {
+            Arc::from([])
+        } else {
+            Arc::from(super::sampling::layer_views(gl, app.name, array, format, levels, n))
+        };
+        let image = LayeredImage {
+            app,
+            storage: s,
+            buffers: buffers_at(point),
+            array,
+            layer_views,
+        };
+        image.copy(gl, info, Direction::FromApp, 0..n);
+        Ok(image)
+    }
+
+    /// The reverse of the filling at creation for one layer: the app's object gets view
+    /// `layer`'s content (when the layer gives up mid-frame).
+    pub fn copy_back(&self, gl: &Gl, info: GlInfo, layer: u32) {
+        self.copy(gl, info, Direction::ToApp, layer..layer + 1);
+    }
+
+    /// Blits between the app's object and `layers` through two framebuffers of our own, so
+    /// that neither the app's framebuffers (their completeness, buffer selections) nor its
+    /// bindings are involved. Blits obey the scissor test and sRGB encoding: both are off
+    /// meanwhile.
+    fn copy(&self, gl: &Gl, info: GlInfo, direction: Direction, layers: std::ops::Range<u32>) {
+        let _guard = crate::gl::guard::StateGuard::new(gl, info).caps(&[SCISSOR_TEST, FRAMEBUFFER_SRGB]);
+        let point = point(self.buffers);
+        let (w, h) = (self.storage.width, self.storage.height);
+        let mut fbos = [0u32; 2];
+        // SAFETY: our own framebuffers, named (no binding changes), deleted at the end; the
+        // app's object is only attached to them.
+        unsafe {
+            gl.Disable(SCISSOR_TEST);
+            gl.Disable(FRAMEBUFFER_SRGB);
+            gl.CreateFramebuffers(2, fbos.as_mut_ptr());
+            let [app_fbo, layer_fbo] = fbos;
+            if self.app.renderbuffer {
+                gl.NamedFramebufferRenderbuffer(app_fbo, point, RENDERBUFFER, self.app.name);
+            } else {
+                gl.NamedFramebufferTexture(app_fbo, point, self.app.name, 0);
+            }
+            let (src, dst) = match direction {
+                Direction::FromApp => (app_fbo, layer_fbo),
+                Direction::ToApp => (layer_fbo, app_fbo),
+            };
+            for layer in layers {
+                gl.NamedFramebufferTextureLayer(layer_fbo, point, self.array, 0, layer as i32);
+                gl.BlitNamedFramebuffer(src, dst, 0, 0, w, h, 0, 0, w, h, self.buffers, NEAREST);
+            }
+            gl.DeleteFramebuffers(2, fbos.as_ptr());
+        }
+    }
+
+    /// Mipmaps of every layer, when the app regenerates its texture's.
+    pub fn generate_mipmaps(&self, gl: &Gl) {
+        // SAFETY: our own array texture.
+        unsafe { gl.GenerateTextureMipmap(self.array) };
+    }
+
+    /// Our texture names: the array and the layer views.
+    pub fn textures(&self) -> impl Iterator<Item = u32> + '_ {
+        std::iter::once(self.array).chain(self.layer_views.iter().copied())
+    }
+
+    pub fn delete(&self, gl: &Gl) {
+        // SAFETY: deleting only objects this image created.
+        unsafe {
+            gl.DeleteTextures(self.layer_views.len() as i32, self.layer_views.as_ptr());
+            gl.DeleteTextures(1, &self.array);
+        }
+    }
+}
+
+#[derive(Clone, Copy)]
+enum Direction {
+    FromApp,
+    ToApp,
+}
