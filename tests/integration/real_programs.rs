@@ -267,3 +267,131 @@ fn destroyed_contexts_are_not_kept() {
     assert!(!tracked.is_empty(), "no context was destroyed:\n{err}");
     assert!(tracked.iter().all(|&n| n <= 1), "contexts pile up: {tracked:?}");
 }
+
+/// Three cubes at different depths, as a Wavefront OBJ (f3d ships no sample model).
+fn write_cubes_obj(path: &Path) {
+    let mut obj = String::new();
+    for (k, (cx, cy, cz, s)) in [(-1.5, 0.0, 0.0, 0.6), (0.0, 0.0, -2.0, 0.8), (1.5, 0.3, 1.0, 0.5)]
+        .into_iter()
+        .enumerate()
+    {
+        for (dx, dy, dz) in (0..8).map(|i| ([-1.0, 1.0][i >> 2], [-1.0, 1.0][(i >> 1) & 1], [-1.0, 1.0][i & 1])) {
+            obj += &format!("v {} {} {}\n", cx + dx * s, cy + dy * s, cz + dz * s);
+        }
+        for f in [
+            [0, 1, 3, 2],
+            [4, 6, 7, 5],
+            [0, 4, 5, 1],
+            [2, 3, 7, 6],
+            [0, 2, 6, 4],
+            [1, 5, 7, 3],
+        ] {
+            let [a, b, c, d] = f.map(|i| i + 1 + 8 * k);
+            obj += &format!("f {a} {b} {c} {d}\n");
+        }
+    }
+    std::fs::write(path, obj).unwrap();
+}
+
+/// A VTK interaction log (`f3d --interaction-test-play`): the left button held while the
+/// mouse wiggles by a pixel, so every event renders a frame with the model barely turned.
+fn write_wiggle_events(path: &Path, frames: usize) {
+    let mut log = String::from("# StreamVersion 1.1\nLeftButtonPressEvent 160 120 0 0 0 0 0\n");
+    for i in 0..frames {
+        log += &format!("MouseMoveEvent {} 120 0 0 0 0 0\n", 159 + 2 * (i % 2));
+    }
+    log += "LeftButtonReleaseEvent 160 120 0 0 0 0 0\n";
+    std::fs::write(path, log).unwrap();
+}
+
+/// Pixels brighter than `background` by more than a few levels: the lit faces of the model.
+/// (Darker ones are left out: f3d's first frame has a black band where its window grew after
+/// the first draw.)
+fn model_pixels(img: &Image, background: &[u8]) -> usize {
+    let lit = |p: &[u8]| p.iter().zip(background).all(|(a, b)| *a > b.saturating_add(8));
+    img.rgb.chunks(3).filter(|p| lit(p)).count()
+}
+
+/// Regression (issue 11): f3d (VTK 9.1) with SSAO re-attaches its render targets for every
+/// pass and detaches them after it; the layer re-made the shadows each time, so the quilt
+/// showed the background only, and logged "shadowed" for the same framebuffer every frame.
+/// Now, over 100 frames of the user turning the model (f3d on an Xvfb window, no trace
+/// needed: the scene is static): every tile of frames 1 and 100 shows the model (at least
+/// half the model pixels of the pass-through frame), outer views shift further than inner
+/// ones, left and right mirror each other, and each framebuffer is logged shadowed once.
+#[test]
+fn f3d_ssao_quilt_shows_the_model_in_every_view() {
+    require_display();
+    let dir = temp_dir("f3d_ssao");
+    let (model, events) = (dir.join("cubes.obj"), dir.join("wiggle.log"));
+    write_cubes_obj(&model);
+    write_wiggle_events(&events, 110);
+    let f3d = |layer: &[&str], dump: &Path, frames: &str, last: &str| {
+        let mut options = layer.to_vec();
+        options.extend([
+            "--dump",
+            dump.to_str().unwrap(),
+            "--dump-frames",
+            frames,
+            "--exit-after",
+            last,
+        ]);
+        let play = format!("--interaction-test-play={}", events.display());
+        let args = ["--ssao", "--resolution", "320,240", &play, model.to_str().unwrap()];
+        let out = under_layer(&options, "f3d", &args, &[]);
+        assert_success(&out, "f3d under the layer");
+        out
+    };
+    f3d(&["--output", "mono"], &dir.join("plain"), "1", "1");
+    let plain = read_png(&dir.join("plain/f000001_out.png"));
+    let background = plain.rgb[..3].to_vec();
+    let expected = model_pixels(&plain, &background);
+    assert!(expected > 2000, "f3d drew no model ({expected} pixels)");
+    let layer = [
+        "--quilt",
+        "3x3",
+        "--depthiness",
+        "0.1",
+        "--convergence",
+        "0.01",
+        "--log",
+        "info",
+    ];
+    let out = f3d(&layer, &dir.join("quilt"), "1,100", "100");
+    let aspect = holoinject::multiview::layout::QuiltLayout::new((3, 3), None, (plain.width, plain.height)).file_tag();
+    for frame in [1, 100] {
+        let png = dir.join(format!("quilt/f{frame:06}_{aspect}.png"));
+        let quilt = read_png(&png);
+        let found: Vec<usize> = (0..9)
+            .map(|i| model_pixels(&tile(&quilt, 3, 3, i), &background))
+            .collect();
+        eprintln!("f3d frame {frame}: model pixels per view {found:?}, pass-through {expected}");
+        assert!(
+            found.iter().all(|&n| n * 2 >= expected),
+            "frame {frame}: a view lacks the model: {found:?} vs {expected}\n{}",
+            png.display()
+        );
+        assert_parallax_grows(&quilt, &png, (3, 3), 4, &[5, 6, 7, 8], 40, "f3d right views");
+        assert_parallax_grows(&quilt, &png, (3, 3), 4, &[3, 2, 1, 0], 40, "f3d left views");
+        let centre = tile(&quilt, 3, 3, 4);
+        let [left, right] = [0, 8].map(|i| horizontal_shift(&centre, &tile(&quilt, 3, 3, i), 40));
+        assert!(
+            (left + right).abs() <= 1,
+            "frame {frame}: outer views do not mirror: {left} and {right} px"
+        );
+    }
+    assert_shadowed_once(&stderr(&out));
+}
+
+/// Each framebuffer is announced as shadowed at most once (f3d deletes its passes'
+/// framebuffers after its first frame and makes new ones: each new name is announced once).
+fn assert_shadowed_once(log: &str) {
+    let mut seen = std::collections::BTreeMap::<&str, usize>::new();
+    for l in log.lines().filter(|l| l.contains(" shadowed with ")) {
+        let fbo = l.split_whitespace().nth(3).unwrap_or("?");
+        *seen.entry(fbo).or_default() += 1;
+    }
+    eprintln!("framebuffers shadowed (announcements): {seen:?}");
+    assert!(!seen.is_empty(), "nothing shadowed:\n{log}");
+    assert!(seen.values().all(|&n| n == 1), "shadowed more than once: {seen:?}");
+}
