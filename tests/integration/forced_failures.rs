@@ -21,7 +21,12 @@ fn policy_names() -> Vec<String> {
 }
 
 fn every_hook_fails_safely(name: &str, app_args: &[&str]) {
-    let dir = temp_dir(&format!("forced_failures_{name}_{}", app_args[1]));
+    // An app's switch (`--blit-to-default`, `--reattach`) names a variant of its own.
+    let variant = app_args
+        .last()
+        .and_then(|a| a.strip_prefix("--"))
+        .map_or(String::new(), |v| format!("_{v}"));
+    let dir = temp_dir(&format!("forced_failures_{name}_{}{variant}", app_args[1]));
     let exe = app(name);
     let plain = dir.join("plain.png");
     let mut args: Vec<&str> = app_args.to_vec();
@@ -88,6 +93,17 @@ fn multi_pass_app_survives_every_hook_failing() {
     every_hook_fails_safely(
         "framebuffers",
         &["--backend", "egl", "--size", "160x120", "--frames", "4"],
+    );
+}
+
+/// VTK's pattern: targets attached before and detached after every pass, texture parameters
+/// sent again. A failure while the scene texture is detached must still hand the frame back
+/// (the centre layer of its image goes into the app's texture, which the next pass samples).
+#[test]
+fn reattaching_app_survives_every_hook_failing() {
+    every_hook_fails_safely(
+        "framebuffers",
+        &["--backend", "egl", "--size", "160x120", "--frames", "4", "--reattach"],
     );
 }
 
