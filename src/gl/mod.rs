@@ -23,6 +23,7 @@ pub mod egl;
 pub mod guard;
 mod info;
 pub use info::GlInfo;
+pub mod program;
 pub mod readback;
 
 /// A context's GL table, shared between the threads that make the context current.
