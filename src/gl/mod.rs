@@ -19,6 +19,7 @@ pub mod glx {
     include!(concat!(env!("OUT_DIR"), "/glx_bindings.rs"));
 }
 
+pub mod depth_copy;
 pub mod egl;
 pub mod guard;
 mod info;
