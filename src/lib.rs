@@ -39,7 +39,9 @@
 //! viewport and scissor mapped into the view's tile, the view's shift set (the injected
 //! `holoinject_view` uniform, or a sheared `GL_PROJECTION` for fixed function), and the
 //! app's state put back after the last view. Into an app framebuffer that the main camera
-//! draws into, the draw goes to each layer of its layered shadow instead.
+//! draws into, the draw goes to each layer of its layered shadow instead. Each draw is also
+//! counted against its framebuffer when it is the main camera's, which is how
+//! auto-convergence knows where the scene's depth is (`multiview::scene`).
 //!
 //! ## The journey of one link
 //! `glLinkProgram` reaches `multiview::link`: the attached vertex (or last geometry) shader
@@ -53,8 +55,10 @@
 //! `glXSwapBuffers`/`eglSwapBuffers` (or `glFinish` for OSMesa) reach `hook::frame`: the
 //! frame is numbered, `output::Presenter` draws the quilt into the real framebuffer 0 as
 //! `--output` asks (and dumps the quilt and weave), the presented image is dumped, the real
-//! swap runs, then `multiview` reads the centre view's depth for auto-convergence and
-//! resizes the quilt if the window changed; `--exit-after` ends the process last.
+//! swap runs, then `multiview` estimates auto-convergence from the scene's depth (copied from
+//! the centre view of the framebuffer the main camera draws into, before anything overwrote
+//! it: `multiview::scene`) and resizes the quilt if the window changed; `--exit-after` ends
+//! the process last.
 //!
 //! ## Environment
 //! The layer reads only `HOLOINJECT_*` variables (`holoinject run --foo-bar` sets

@@ -165,3 +165,28 @@ impl Drop for StateGuard<'_> {
         }
     }
 }
+
+/// Fixed-function state a full-screen pass of ours must not inherit from the app (the caller
+/// holds a `StateGuard::for_pass` that puts it all back).
+pub fn neutral_pass_state(gl: &Gl, info: GlInfo) {
+    let mut off = vec![BLEND, DEPTH_TEST, STENCIL_TEST, CULL_FACE, SCISSOR_TEST, DITHER];
+    if info.es || info.at_least(3, 0) {
+        off.push(RASTERIZER_DISCARD);
+    }
+    if !info.es {
+        off.extend([FRAMEBUFFER_SRGB, COLOR_LOGIC_OP]);
+    }
+    // SAFETY: toggles and masks valid in this context, restored by the caller's guard.
+    unsafe {
+        for cap in off {
+            gl.Disable(cap);
+        }
+        gl.ColorMask(TRUE, TRUE, TRUE, TRUE);
+        if !info.es {
+            gl.PolygonMode(FRONT_AND_BACK, FILL);
+        }
+        if info.es && info.at_least(3, 0) || !info.es && info.at_least(3, 3) {
+            gl.BindSampler(0, 0);
+        }
+    }
+}

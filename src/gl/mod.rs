@@ -21,10 +21,12 @@ pub mod glx {
     include!(concat!(env!("OUT_DIR"), "/glx_bindings.rs"));
 }
 
+pub mod depth_copy;
 pub mod egl;
 pub mod guard;
 mod info;
 pub use info::GlInfo;
+pub mod program;
 pub mod readback;
 
 /// A context's GL table, shared between the threads that make the context current.

@@ -61,7 +61,7 @@ fn multiview_frame(frame: u64, surface: usize, settings: &Settings) {
                 format_args!("quilt of frame {frame} not dumped: {e}"),
             );
         }
-        crate::multiview::update_convergence(gl, mv);
+        crate::multiview::update_convergence(gl, app, mv);
         crate::multiview::framebuffer::ensure_target(gl, app, mv, window);
     });
 }

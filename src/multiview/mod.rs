@@ -17,6 +17,7 @@
 //! state (`state`) nor the presenting passes (`output::Presenter`); functions take those
 //! they need as arguments.
 
+pub mod convergence;
 pub mod framebuffer;
 pub mod immediate;
 pub mod layered;
@@ -27,6 +28,7 @@ pub mod link;
 pub mod raster;
 pub mod replay;
 pub mod sampling;
+pub mod scene;
 pub mod screen_space;
 pub mod shadow;
 pub mod shift;
@@ -34,13 +36,15 @@ pub mod target;
 pub mod ubo;
 
 use crate::camera::CameraEstimate;
-use crate::config::{Convergence, ViewSettings};
-use crate::gl::{Gl, GlInfo};
+use crate::config::ViewSettings;
+use crate::gl::GlInfo;
 use crate::state::AppState;
 use crate::state::orphans::LayerObjects;
 use layout::QuiltLayout;
 use std::collections::{HashMap, HashSet};
 use target::QuiltTarget;
+
+pub use convergence::update_convergence;
 
 pub struct Multiview {
     pub info: GlInfo,
@@ -70,6 +74,8 @@ pub struct Multiview {
     /// Per-view shears of the fixed-function projection and of the camera projection.
     pub sheared: shift::ShearedProjections,
     pub sheared_camera: shift::ShearedProjections,
+    /// Where the main camera draws, and the copy of its depth auto-convergence reads.
+    pub scene: convergence::SceneDepth,
 }
 
 impl Multiview {
@@ -95,6 +101,7 @@ impl Multiview {
             camera_uniforms: Vec::new(),
             sheared: Default::default(),
             sheared_camera: Default::default(),
+            scene: Default::default(),
         }
     }
 
@@ -124,6 +131,9 @@ impl Multiview {
         for image in self.images.values() {
             o.textures.extend(image.textures());
         }
+        let (textures, program) = self.scene.shared_objects();
+        o.textures.extend(textures);
+        o.programs.extend(program);
         o.lists.push(self.immediate_list);
         o.without_zeros()
     }
@@ -132,28 +142,4 @@ impl Multiview {
     pub fn quilt_fbo(&self) -> Option<u32> {
         self.target.as_ref().filter(|_| !self.failed).map(|t| t.fbo)
     }
-}
-
-/// Auto-convergence from the centre view's depth of the frame just finished.
-pub fn update_convergence(gl: &Gl, mv: &mut Multiview) {
-    let Some(layout) = mv.layout() else { return };
-    // ES cannot read depth back: there the projection's near/far give the estimate.
-    if mv.settings.convergence == Convergence::Auto
-        && !mv.info.es
-        && let (Some(target), Some(range)) = (mv.target.as_ref(), mv.camera.last_depth)
-    {
-        let tile = target.layout.tile_rect(mv.camera.rig.centre());
-        let depths = crate::gl::readback::read_depth(gl, mv.info, target.fbo, tile);
-        if let Some(c) = crate::camera::convergence::estimate(&depths, range) {
-            if mv.camera.auto_convergence.is_none() {
-                crate::log::info(format_args!(
-                    "auto-convergence: scene at {c:.4} (near {:.4}, far {:.4})",
-                    range.near(),
-                    range.far()
-                ));
-            }
-            mv.camera.auto_convergence = Some(crate::camera::convergence::smooth(mv.camera.auto_convergence, c));
-        }
-    }
-    mv.update_rig(layout);
 }

@@ -65,6 +65,10 @@ fn replay(
     f: &impl Fn(u32),
 ) {
     let shift = shift::of(gl, app, mv, group);
+    if mv.scene.tracker.draw(app.draw_fbo, shift.camera(), app.viewport) {
+        // The scene's depth is about to be drawn over: auto-convergence copies it first.
+        super::convergence::take_depth(gl, app, mv);
+    }
     let fixed = matches!(shift, Shift::Projection(_));
     let app_matrix_mode = fixed.then(|| app.matrix_mode(gl));
     let scissored = app.enabled(gl, SCISSOR_TEST);

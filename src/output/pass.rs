@@ -1,6 +1,5 @@
 //! Our own full-screen passes (lenticular weave, anaglyph), compiled once per context from
-//! `glsl-patches/`. Sources are written as GLSL 3.30 core; ES 3 contexts get the same code
-//! under `#version 300 es` with explicit precision.
+//! `glsl-patches/` (by `gl::program`: GLSL 3.30 core, or `#version 300 es` on ES).
 
 use crate::gl::GlInfo;
 use crate::gl::*;
@@ -17,62 +16,6 @@ pub struct Passes {
     programs: Vec<(&'static str, Result<u32, String>)>,
 }
 
-fn for_context(source: &str, info: GlInfo) -> String {
-    if !info.es {
-        return source.to_string();
-    }
-    let body = source.split_once('\n').map_or("", |(_, rest)| rest);
-    format!("#version 300 es\nprecision highp float;\nprecision highp int;\nprecision highp sampler2D;\n{body}")
-}
-
-fn compile(gl: &Gl, kind: GLenum, source: &str) -> Result<u32, String> {
-    let c = CString::new(source).map_err(|_| "NUL in shader source")?;
-    // SAFETY: creating and compiling our own shader object.
-    unsafe {
-        let s = gl.CreateShader(kind);
-        gl.ShaderSource(s, 1, &c.as_ptr(), core::ptr::null());
-        gl.CompileShader(s);
-        let mut ok = 0;
-        gl.GetShaderiv(s, COMPILE_STATUS, &mut ok);
-        if ok == 0 {
-            let log = info_log(|n, l, b| gl.GetShaderInfoLog(s, n, l, b));
-            gl.DeleteShader(s);
-            return Err(log);
-        }
-        Ok(s)
-    }
-}
-
-fn info_log(get: impl Fn(i32, *mut i32, *mut types::GLchar)) -> String {
-    let mut buf = vec![0u8; 4096];
-    let mut n = 0;
-    get(buf.len() as i32, &mut n, buf.as_mut_ptr().cast());
-    buf.truncate(n.max(0) as usize);
-    String::from_utf8_lossy(&buf).lines().next().unwrap_or("").to_string()
-}
-
-fn link(gl: &Gl, info: GlInfo, frag: &str) -> Result<u32, String> {
-    let vs = compile(gl, VERTEX_SHADER, &for_context(FULLSCREEN_VERT, info))?;
-    let fs = compile(gl, FRAGMENT_SHADER, &for_context(frag, info))?;
-    // SAFETY: linking our own program from our own shaders.
-    unsafe {
-        let p = gl.CreateProgram();
-        gl.AttachShader(p, vs);
-        gl.AttachShader(p, fs);
-        gl.LinkProgram(p);
-        gl.DeleteShader(vs);
-        gl.DeleteShader(fs);
-        let mut ok = 0;
-        gl.GetProgramiv(p, LINK_STATUS, &mut ok);
-        if ok == 0 {
-            let log = info_log(|n, l, b| gl.GetProgramInfoLog(p, n, l, b));
-            gl.DeleteProgram(p);
-            return Err(log);
-        }
-        Ok(p)
-    }
-}
-
 impl Passes {
     /// The program for fragment shader `frag` (named `name`), built on first use.
     pub fn program(&mut self, gl: &Gl, info: GlInfo, name: &'static str, frag: &str) -> Result<u32, String> {
@@ -83,7 +26,7 @@ impl Passes {
         if let Some((_, p)) = self.programs.iter().find(|(n, _)| *n == name) {
             return p.clone();
         }
-        let p = link(gl, info, frag).map_err(|e| format!("{name} pass: {e}"));
+        let p = crate::gl::program::link(gl, info, FULLSCREEN_VERT, frag).map_err(|e| format!("{name} pass: {e}"));
         self.programs.push((name, p.clone()));
         p
     }
@@ -109,27 +52,5 @@ pub fn uniform(gl: &Gl, program: u32, name: &str) -> i32 {
     unsafe { gl.GetUniformLocation(program, c.as_ptr()) }
 }
 
-/// Fixed-function state a full-screen pass of ours must not inherit from the app (the caller
-/// holds a `StateGuard::for_pass` that puts it all back).
-pub fn neutral_state(gl: &Gl, info: GlInfo) {
-    let mut off = vec![BLEND, DEPTH_TEST, STENCIL_TEST, CULL_FACE, SCISSOR_TEST, DITHER];
-    if info.es || info.at_least(3, 0) {
-        off.push(RASTERIZER_DISCARD);
-    }
-    if !info.es {
-        off.extend([FRAMEBUFFER_SRGB, COLOR_LOGIC_OP]);
-    }
-    // SAFETY: toggles and masks valid in this context, restored by the caller's guard.
-    unsafe {
-        for cap in off {
-            gl.Disable(cap);
-        }
-        gl.ColorMask(TRUE, TRUE, TRUE, TRUE);
-        if !info.es {
-            gl.PolygonMode(FRONT_AND_BACK, FILL);
-        }
-        if info.es && info.at_least(3, 0) || !info.es && info.at_least(3, 3) {
-            gl.BindSampler(0, 0);
-        }
-    }
-}
+/// Fixed-function state a full-screen pass of ours must not inherit from the app.
+pub use crate::gl::guard::neutral_pass_state as neutral_state;

@@ -11,6 +11,7 @@
 mod util;
 
 mod bad_input;
+mod convergence;
 mod forced_failures;
 mod launcher;
 mod layer_library;

@@ -4,8 +4,10 @@
 
 mod compare;
 mod image;
+mod parallax;
 pub use compare::*;
 pub use image::*;
+pub use parallax::*;
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};

@@ -73,14 +73,20 @@ pub(crate) fn glScissor(real: impl Fn(GLint, GLint, GLsizei, GLsizei), x: GLint,
     real(x, y, w, h)
 }
 
-fn clear_tiles(f: impl Fn()) {
-    if with_active(|_, app, mv, gl| fb::clear(gl, app, mv, &f)).is_none() {
+/// A clear (`depth`: of the depth buffer too), per tile or layer; a scene depth it would
+/// erase is copied first for auto-convergence.
+fn clear_tiles(depth: bool, f: impl Fn()) {
+    let done = with_active(|_, app, mv, gl| {
+        crate::multiview::convergence::before_erase(gl, app, mv, app.draw_fbo, depth);
+        fb::clear(gl, app, mv, &f)
+    });
+    if done.is_none() {
         f()
     }
 }
 
 pub(crate) fn glClear(real: impl Fn(GLbitfield), mask: GLbitfield) {
-    clear_tiles(|| real(mask))
+    clear_tiles(mask & crate::gl::DEPTH_BUFFER_BIT != 0, || real(mask))
 }
 
 pub(crate) fn glClearBufferfv(
@@ -89,11 +95,11 @@ pub(crate) fn glClearBufferfv(
     i: GLint,
     v: *const GLfloat,
 ) {
-    clear_tiles(|| real(buffer, i, v))
+    clear_tiles(buffer == crate::gl::DEPTH, || real(buffer, i, v))
 }
 
 pub(crate) fn glClearBufferiv(real: impl Fn(GLenum, GLint, *const GLint), buffer: GLenum, i: GLint, v: *const GLint) {
-    clear_tiles(|| real(buffer, i, v))
+    clear_tiles(false, || real(buffer, i, v))
 }
 
 pub(crate) fn glClearBufferuiv(
@@ -102,7 +108,7 @@ pub(crate) fn glClearBufferuiv(
     i: GLint,
     v: *const GLuint,
 ) {
-    clear_tiles(|| real(buffer, i, v))
+    clear_tiles(false, || real(buffer, i, v))
 }
 
 pub(crate) fn glClearBufferfi(
@@ -112,7 +118,7 @@ pub(crate) fn glClearBufferfi(
     d: GLfloat,
     s: GLint,
 ) {
-    clear_tiles(|| real(buffer, i, d, s))
+    clear_tiles(buffer == crate::gl::DEPTH_STENCIL, || real(buffer, i, d, s))
 }
 
 /// Reads from framebuffer 0 see the centre view at the app's resolution.
@@ -200,15 +206,30 @@ pub(crate) fn glInvalidateFramebuffer(
     n: GLsizei,
     atts: *const GLenum,
 ) {
-    let on_fb0 = with_active(|_, app, mv, _| {
-        let app = if target == crate::gl::READ_FRAMEBUFFER {
+    let depth = invalidates_depth(n, atts);
+    let on_fb0 = with_active(|_, app, mv, gl| {
+        let fbo = if target == crate::gl::READ_FRAMEBUFFER {
             app.read_fbo
         } else {
             app.draw_fbo
         };
-        mv.quilt_fbo().is_some() && app == 0
+        // Engines for tiled GPUs invalidate the scene's depth once it is drawn.
+        crate::multiview::convergence::before_erase(gl, app, mv, fbo, depth);
+        mv.quilt_fbo().is_some() && fbo == 0
     });
     if on_fb0 != Some(true) {
         real(target, n, atts)
     }
+}
+
+/// Whether the `n` attachments at `atts` include depth.
+fn invalidates_depth(n: GLsizei, atts: *const GLenum) -> bool {
+    use crate::gl::{DEPTH, DEPTH_ATTACHMENT, DEPTH_STENCIL_ATTACHMENT};
+    if atts.is_null() || n <= 0 {
+        return false;
+    }
+    // SAFETY: the app passes `n` attachment names.
+    let list = unsafe { std::slice::from_raw_parts(atts, n as usize) };
+    list.iter()
+        .any(|a| matches!(*a, DEPTH | DEPTH_ATTACHMENT | DEPTH_STENCIL_ATTACHMENT))
 }

@@ -1,0 +1,193 @@
+//! Auto-convergence from the scene's depth: the scene target's depth copied when it is about
+//! to change (or at the swap), estimated at the swap, and the next frame's target chosen.
+//! Which framebuffer and when: see `scene`. What a copy needs to know of its source is asked
+//! of GL at the swap, so that a copy taken inside a draw call asks GL nothing.
+
+use super::Multiview;
+use super::layout::intersect;
+use super::scene::{Candidate, Phase, SceneTracker};
+use crate::camera::convergence;
+use crate::config::Convergence;
+use crate::gl::depth_copy::{self, DepthCopy, Restore, SourceFormat};
+use crate::gl::{Gl, SCISSOR_TEST};
+use crate::state::AppState;
+
+/// The scene's depth: where it is drawn, and our copy of it.
+#[derive(Default)]
+pub struct SceneDepth {
+    pub tracker: SceneTracker,
+    copy: DepthCopy,
+    /// Where this frame's copy came from, once taken.
+    taken: Option<Source>,
+    /// The target's camera draws and all camera draws of the frame it was chosen in.
+    share: (u32, u32),
+    /// The framebuffer copies of the target come from, and its depth format.
+    described: Option<(u32, SourceFormat)>,
+}
+
+/// Where a copy of the target's depth comes from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Source {
+    /// Framebuffer 0: the quilt's centre tile.
+    Quilt,
+    /// An app framebuffer's layered shadow: its centre layer.
+    Shadow,
+    /// An app framebuffer without a shadow: its own attachment.
+    App,
+}
+
+impl SceneDepth {
+    /// Our textures and program (shared by the share group).
+    pub fn shared_objects(&self) -> ([u32; 2], Option<u32>) {
+        self.copy.shared_objects()
+    }
+}
+
+/// Copies the scene target's depth now, before anything changes it (see `scene`). Called
+/// when the tracker asks (in a draw or a clear), and at the swap.
+pub fn take_depth(gl: &Gl, app: &mut AppState, mv: &mut Multiview) {
+    mv.scene.tracker.phase = Phase::Taken;
+    let Some(target) = mv.scene.tracker.target else { return };
+    let Some((fbo, rect, from)) = source(mv, target) else {
+        return;
+    };
+    let format = match mv.scene.described {
+        Some((described, format)) if described == fbo => Ok(format),
+        // A source that appeared since the swap (a shadow made this frame): asked now.
+        _ => checked_describe(gl, mv, fbo, from),
+    };
+    let format = match format {
+        Ok(f) => f,
+        Err(e) => return unreadable(target, &e),
+    };
+    let map = |f: u32| if f == 0 { mv.quilt_fbo().unwrap_or(0) } else { f };
+    let restore = Restore {
+        draw_fbo: map(app.draw_fbo),
+        read_fbo: map(app.read_fbo),
+        scissor: app.enabled(gl, SCISSOR_TEST),
+    };
+    mv.scene.copy.take(gl, mv.info, (fbo, format), rect, restore);
+    mv.scene.taken = Some(from);
+}
+
+/// Before a clear or an invalidation of the app's `fbo` (`depth`: of its depth buffer too):
+/// the scene's depth is copied first if this erases it.
+pub fn before_erase(gl: &Gl, app: &mut AppState, mv: &mut Multiview, fbo: u32, depth: bool) {
+    if mv.scene.tracker.clear(fbo, depth) {
+        take_depth(gl, app, mv);
+    }
+}
+
+fn unreadable(target: u32, e: &str) {
+    crate::log::once_for(
+        ("scene-depth", u64::from(target)),
+        crate::log::Level::Info,
+        format_args!("auto-convergence: the depth of framebuffer {target} cannot be read: {e}"),
+    );
+}
+
+/// The framebuffer holding the target's depth as the centre view saw it.
+fn source_fbo(mv: &Multiview, target: u32) -> Option<(u32, Source)> {
+    let centre = mv.camera.rig.centre() as usize;
+    Some(if target == 0 {
+        (mv.target.as_ref()?.fbo, Source::Quilt)
+    } else if let Some(s) = mv.shadows.get(&target) {
+        (*s.views.get(centre).or(s.views.last())?, Source::Shadow)
+    } else {
+        (target, Source::App)
+    })
+}
+
+/// `source_fbo`, and the rectangle of it the camera drew into (its viewport there).
+fn source(mv: &Multiview, target: u32) -> Option<(u32, [i32; 4], Source)> {
+    let (fbo, from) = source_fbo(mv, target)?;
+    let viewport = mv.scene.tracker.viewport;
+    let rect = match (from, mv.target.as_ref(), mv.shadows.get(&target)) {
+        (Source::Quilt, Some(quilt), _) => {
+            let centre = mv.camera.rig.centre();
+            intersect(quilt.layout.map_rect(centre, viewport), quilt.layout.tile_rect(centre))
+        }
+        (Source::Shadow, _, Some(s)) => intersect(viewport, [0, 0, s.size.0, s.size.1]),
+        _ => intersect(viewport, [0, 0, i32::MAX, i32::MAX]),
+    };
+    (rect[2] > 0 && rect[3] > 0).then_some((fbo, rect, from))
+}
+
+/// `depth_copy::describe`, after checking that an app's framebuffer still exists.
+fn checked_describe(gl: &Gl, mv: &Multiview, fbo: u32, from: Source) -> Result<SourceFormat, String> {
+    // SAFETY: a query on a name, binding nothing.
+    if from == Source::App && unsafe { gl.IsFramebuffer(fbo) } == 0 {
+        return Err("it was deleted".into());
+    }
+    depth_copy::describe(gl, mv.info, fbo)
+}
+
+/// At the swap: the frame's estimate, and the next frame's scene target.
+pub fn update_convergence(gl: &Gl, app: &mut AppState, mv: &mut Multiview) {
+    let Some(layout) = mv.layout() else { return };
+    if mv.settings.convergence == Convergence::Auto {
+        if mv.scene.tracker.phase == Phase::Drawn {
+            take_depth(gl, app, mv);
+        }
+        estimate(gl, mv);
+        choose_target(gl, mv);
+    } else {
+        mv.scene.tracker.end_frame();
+    }
+    mv.update_rig(layout);
+}
+
+/// Harmonic mean depth of this frame's copy, smoothed into the convergence.
+fn estimate(gl: &Gl, mv: &mut Multiview) {
+    let (Some(from), Some(range), Some(target)) =
+        (mv.scene.taken.take(), mv.camera.last_depth, mv.scene.tracker.target)
+    else {
+        return;
+    };
+    let depths = match mv.scene.copy.read(gl, mv.info) {
+        Ok(d) => d,
+        Err(e) => return unreadable(target, &e),
+    };
+    let Some(c) = convergence::estimate(&depths, range) else {
+        return;
+    };
+    crate::log::once_for(
+        ("scene-depth-from", u64::from(target)),
+        crate::log::Level::Info,
+        format_args!(
+            "auto-convergence: scene at {c:.4} (near {:.4}, far {:.4}) from framebuffer {target}{}, where the \
+             main camera draws ({} of the frame's {} perspective draws){}",
+            range.near(),
+            range.far(),
+            match from {
+                Source::Quilt => " (the quilt's centre view)",
+                Source::Shadow => " (its shadow's centre layer)",
+                Source::App => "",
+            },
+            mv.scene.share.0,
+            mv.scene.share.1,
+            if mv.info.es {
+                "; read through a colour pass (ES has no depth read-back)"
+            } else {
+                ""
+            },
+        ),
+    );
+    mv.camera.auto_convergence = Some(convergence::smooth(mv.camera.auto_convergence, c));
+}
+
+/// The framebuffer with the most camera draws this frame that a scene can be drawn into
+/// (colour and depth; not a light's depth-only shadow map) becomes the next frame's target,
+/// and its depth source is described for the copies to come.
+fn choose_target(gl: &Gl, mv: &mut Multiview) {
+    let candidates = mv.scene.tracker.end_frame();
+    let total = candidates.iter().map(|c| c.draws).sum();
+    let info = mv.info;
+    let scene = |c: &&Candidate| c.fbo == 0 || depth_copy::is_scene_target(gl, info, c.fbo);
+    let chosen = candidates.iter().find(scene);
+    mv.scene.tracker.target = chosen.map(|c| c.fbo);
+    mv.scene.share = (chosen.map_or(0, |c| c.draws), total);
+    mv.scene.described = chosen
+        .and_then(|c| source_fbo(mv, c.fbo))
+        .and_then(|(fbo, from)| Some((fbo, checked_describe(gl, mv, fbo, from).ok()?)));
+}
