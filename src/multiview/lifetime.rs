@@ -48,10 +48,12 @@ pub fn storage_changed(gl: &Gl, mv: &mut Multiview, app: AppImage, target: GLenu
 }
 
 /// The app deleted these textures or renderbuffers. GL detaches them from the bound
-/// framebuffers, so every framebuffer's facts are asked again.
+/// framebuffers, so every framebuffer's facts are asked again, and a framebuffer refused
+/// with one of them attached may be tried again (the name may come back as another object).
 pub fn objects_deleted(gl: &Gl, mv: &mut Multiview, gone: impl Iterator<Item = AppImage>) {
     for app in gone {
         drop_image(gl, mv, app);
+        mv.unshadowable.retain(|_, had| had.iter().all(|(_, a, _)| *a != app));
     }
     mv.fbo_facts.clear();
 }
