@@ -195,16 +195,18 @@ fn glmark2_desktop_fbo_quilt_centre() {
     replay_quilt("glmark2_desktop_fbo_quilt", "gl", "glretrace", &prog, "20", 8, false);
 }
 
-// `texture` and `pulsar` start face-on (a crate's front face, quads seen edge-on: a flat
-// picture) and turn with the wall clock; their depth shows once they have turned, so they
-// run a fixed number of frames (a loaded machine records few frames in a fixed time) and
-// are seen at the last, 0.4 s in at the quickest (measured: 4 px of spread or more).
+// `texture` and `pulsar` start flat (a crate's front face; quads squashed into a band a few
+// pixels tall, their height growing as sin(t/3.6)) and change with the wall clock; their
+// depth shows only later, so they run a fixed number of frames (a loaded machine records
+// few frames in a fixed time) and are seen at the last: at least 0.4 s and 1.1 s in
+// (measured: outer-view spreads of 4-5 px and 2.7 px). The pulsar's quads are textured so
+// that blocks match.
 glmark2_quilt_tests! {
     glmark2_build_quilt: "build:use-vbo=true:duration=0.4" at 12;
     glmark2_texture_quilt: "texture:nframes=900" at 900;
     glmark2_shading_quilt: "shading:shading=phong:duration=0.4" at 12;
     glmark2_bump_quilt: "bump:bump-render=normals:duration=0.4" at 12;
-    glmark2_pulsar_quilt: "pulsar:nframes=500" at 500;
+    glmark2_pulsar_quilt: "pulsar:texture=true:nframes=1500" at 1500;
 }
 
 #[test]
