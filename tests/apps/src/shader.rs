@@ -24,6 +24,21 @@ fn shader_log(gl: &Gl, s: u32) -> String {
     String::from_utf8_lossy(&buf[..len as usize]).into_owned()
 }
 
+/// A mesh of positions and normals seen through `projection * view * model` (rigid models:
+/// the normal matrix is the model's own), shared by the apps that draw many such meshes.
+pub const LIT_MESH_VS: &str = r#"#version 330 core
+layout (location = 0) in vec3 aPos;
+layout (location = 1) in vec3 aNormal;
+uniform mat4 projection;
+uniform mat4 view;
+uniform mat4 model;
+out vec3 Normal;
+void main() {
+    Normal = mat3(model) * aNormal;
+    gl_Position = projection * view * model * vec4(aPos, 1.0);
+}
+"#;
+
 /// A lit cube whose faces carry texture coordinates (the two coordinates across each face),
 /// shared by the apps that texture their cubes with a render target.
 pub const TEXTURED_CUBE_VS: &str = r#"#version 330 core

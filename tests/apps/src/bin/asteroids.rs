@@ -13,19 +13,6 @@ const CENTRE: [f32; 3] = [0.0, 0.0, 0.0];
 /// Rock variants stored back to back in one VBO.
 const VARIANTS: usize = 4;
 
-const VS: &str = r#"#version 330 core
-layout (location = 0) in vec3 aPos;
-layout (location = 1) in vec3 aNormal;
-uniform mat4 projection;
-uniform mat4 view;
-uniform mat4 model;
-out vec3 Normal;
-void main() {
-    Normal = mat3(model) * aNormal;
-    gl_Position = projection * view * model * vec4(aPos, 1.0);
-}
-"#;
-
 const FS: &str = r#"#version 330 core
 in vec3 Normal;
 uniform vec3 colour;
@@ -93,7 +80,7 @@ struct Asteroids {
 impl Asteroids {
     fn new(gl: &Gl, o: &Options) -> Result<Self, String> {
         let draws = o.extra_u64("draws")? as u32;
-        let prog = shader::program(gl, VS, FS)?;
+        let prog = shader::program(gl, shader::LIT_MESH_VS, FS)?;
         let loc = ["projection", "view", "model", "colour"].map(|n| shader::uniform(gl, prog, n));
         let verts: Vec<f32> = (0..VARIANTS as u32).flat_map(rock).collect();
         let vao = shader::pos_normal_vao(gl, &verts);

@@ -15,19 +15,6 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 const EYE: [f32; 3] = [0.0, 2.0, 5.0];
 
-const VS: &str = r#"#version 330 core
-layout (location = 0) in vec3 aPos;
-layout (location = 1) in vec3 aNormal;
-uniform mat4 projection;
-uniform mat4 view;
-uniform mat4 model;
-out vec3 Normal;
-void main() {
-    Normal = mat3(model) * aNormal;
-    gl_Position = projection * view * model * vec4(aPos, 1.0);
-}
-"#;
-
 const FS: &str = r#"#version 330 core
 in vec3 Normal;
 out vec4 FragColor;
@@ -75,7 +62,7 @@ impl DebugCall {
         if !gl.DebugMessageCallback.is_loaded() {
             return Err("debugcall needs KHR_debug (GL 4.3)".into());
         }
-        let prog = shader::program(gl, VS, FS)?;
+        let prog = shader::program(gl, shader::LIT_MESH_VS, FS)?;
         let loc = ["projection", "view", "model"].map(|n| shader::uniform(gl, prog, n));
         let vao = shader::pos_normal_vao(gl, &shader::cube_vertices());
         // The callback outlives this borrow of the runner's table: it gets a copy of its own.
