@@ -91,3 +91,4 @@ pub mod output;
 pub mod real;
 pub mod shader;
 pub mod state;
+pub mod synth;

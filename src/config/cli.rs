@@ -153,7 +153,7 @@ mod tests {
         assert!(e.contains("no program"), "{e}");
         let e = parse_run(&args(&["--exit-after"])).unwrap_err();
         assert!(e.contains("needs a value"), "{e}");
-        let e = parse_run(&args(&["--mode", "synth", "prog"])).unwrap_err();
+        let e = parse_run(&args(&["--mode", "auto", "prog"])).unwrap_err();
         assert!(e.contains("not available"), "{e}");
     }
 

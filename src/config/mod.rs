@@ -69,6 +69,19 @@ pub enum FboViews {
     None,
 }
 
+/// How views are made (DESIGN §5).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mode {
+    /// Every view re-rendered.
+    Exact,
+    /// The centre view rendered, the others warped by an adaptive quad grid.
+    Synth,
+    /// The centre view rendered, the others splatted per pixel (the baseline).
+    SynthPixel,
+    /// K evenly spaced views rendered, the others warped from their two nearest.
+    Hybrid(u32),
+}
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Convergence {
     Auto,
@@ -112,6 +125,11 @@ pub struct ViewSettings {
     pub view_cone: Option<f64>,
     pub convergence: Convergence,
     pub focus: f64,
+    pub mode: Mode,
+    /// Disparity range (tile pixels, outermost view) a synthesis grid cell may hold.
+    pub synth_threshold: f64,
+    /// Frames on which the exact quilt is rendered too and the synthesised views compared.
+    pub measure_error: Option<FrameSet>,
 }
 
 impl ViewSettings {
@@ -142,6 +160,9 @@ impl Default for ViewSettings {
             view_cone: None,
             convergence: Convergence::Auto,
             focus: 0.0,
+            mode: Mode::Exact,
+            synth_threshold: 1.0,
+            measure_error: None,
         }
     }
 }
@@ -223,6 +244,9 @@ impl Settings {
                 "view-cone" => s.view.view_cone = parse::view_cone(&value).ok(),
                 "convergence" => s.view.convergence = parse::convergence(&value).unwrap_or(Convergence::Auto),
                 "focus" => s.view.focus = parse::finite(&value).unwrap_or(0.0),
+                "mode" => s.view.mode = parse::mode(&value).unwrap_or(Mode::Exact),
+                "synth-threshold" => s.view.synth_threshold = parse::synth_threshold(&value).unwrap_or(1.0),
+                "measure-error" => s.view.measure_error = parse::frames(&value).ok(),
                 _ => {}
             }
         }

@@ -1,6 +1,6 @@
 //! Value syntax shared by the launcher (flags) and the layer (environment).
 
-use super::{Boundary, Convergence, FboViews, FrameSet, Output};
+use super::{Boundary, Convergence, FboViews, FrameSet, Mode, Output};
 
 pub fn grid(v: &str) -> Result<(u32, u32), String> {
     let (a, b) = v
@@ -27,19 +27,33 @@ pub fn quilt(v: &str) -> Result<(u32, u32), String> {
     Ok((c, r))
 }
 
-pub fn mode(v: &str) -> Result<(), String> {
-    let known = match v {
-        "exact" | "auto" => return Ok(()),
-        "synth" => true,
-        _ => matches!(v.strip_prefix("hybrid:").map(str::parse::<u32>), Some(Ok(k)) if k >= 1),
-    };
-    if known {
-        Err(format!(
-            "`{v}`: view synthesis is not available in this build yet; use exact"
-        ))
-    } else {
-        Err(format!("`{v}`: expected exact|synth|hybrid:K|auto"))
+/// `--mode`: `auto` is not built yet and says so.
+pub fn mode(v: &str) -> Result<Mode, String> {
+    match v.trim() {
+        "exact" => Ok(Mode::Exact),
+        "synth" => Ok(Mode::Synth),
+        "synth:pixel" => Ok(Mode::SynthPixel),
+        "auto" => Err(format!(
+            "`{v}`: the frame-budget mode is not available in this build yet; use exact, synth or hybrid:K"
+        )),
+        m => match m.strip_prefix("hybrid:").map(str::parse::<u32>) {
+            Some(Ok(k)) if (1..=MAX_VIEWS).contains(&k) => Ok(Mode::Hybrid(k)),
+            _ => Err(format!(
+                "`{v}`: expected exact|synth|synth:pixel|hybrid:K (K ≥ 1 rendered views)"
+            )),
+        },
     }
+}
+
+/// `--synth-threshold`: pixels of disparity range a grid cell may hold before it is split.
+pub fn synth_threshold(v: &str) -> Result<f64, String> {
+    finite(v).and_then(|x| {
+        if (0.01..=64.0).contains(&x) {
+            Ok(x)
+        } else {
+            Err(format!("`{v}`: pixels in 0.01..=64"))
+        }
+    })
 }
 
 pub fn output(v: &str) -> Result<Output, String> {
@@ -167,9 +181,14 @@ mod tests {
 
     #[test]
     fn modes() {
-        assert!(mode("exact").is_ok());
-        assert!(mode("hybrid:3").unwrap_err().contains("not available"));
+        assert_eq!(mode("exact"), Ok(Mode::Exact));
+        assert_eq!(mode("hybrid:3"), Ok(Mode::Hybrid(3)));
+        assert_eq!(mode("synth:pixel"), Ok(Mode::SynthPixel));
+        assert!(mode("auto").unwrap_err().contains("not available"));
         assert!(mode("hybrid:0").unwrap_err().contains("expected"));
+        assert!(mode("hybrid:x").unwrap_err().contains("expected"));
         assert!(mode("fast").is_err());
+        assert!(synth_threshold("0").is_err());
+        assert_eq!(synth_threshold("2"), Ok(2.0));
     }
 }

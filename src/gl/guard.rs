@@ -8,7 +8,10 @@ use super::GlInfo;
 use super::*;
 
 enum Saved {
-    Framebuffers { draw: u32, read: u32 },
+    Framebuffers {
+        draw: u32,
+        read: u32,
+    },
     Viewport([i32; 4]),
     Scissor([i32; 4]),
     Cap(GLenum, bool),
@@ -22,6 +25,14 @@ enum Saved {
     DepthMask(u8),
     PolygonMode(i32),
     MatrixMode(i32),
+    DepthFunc(u32),
+    Sampler(u32, u32),
+    /// (unit, target, name)
+    Texture(u32, GLenum, u32),
+    /// (target, name) of a non-indexed buffer binding.
+    Buffer(GLenum, u32),
+    /// (target, index, name, start, size) of an indexed buffer binding.
+    IndexedBuffer(GLenum, u32, u32, i64, i64),
 }
 
 pub struct StateGuard<'a> {
@@ -125,6 +136,63 @@ impl<'a> StateGuard<'a> {
         self.caps(&caps).viewport()
     }
 
+    pub fn depth_func(mut self) -> Self {
+        self.saved.push(Saved::DepthFunc(get_i(self.gl, DEPTH_FUNC) as u32));
+        self
+    }
+
+    /// The `target` binding (`binding` names its query) of texture units `units`; the active
+    /// unit must be saved first (`for_pass` does).
+    pub fn textures(mut self, target: GLenum, binding: GLenum, units: std::ops::Range<u32>) -> Self {
+        for unit in units {
+            // SAFETY: selecting a unit to read its binding; the active unit is restored.
+            unsafe { self.gl.ActiveTexture(TEXTURE0 + unit) };
+            self.saved
+                .push(Saved::Texture(unit, target, get_i(self.gl, binding) as u32));
+        }
+        self
+    }
+
+    /// Sampler objects bound to texture units `units`; the active unit must be saved first.
+    pub fn samplers(mut self, units: std::ops::Range<u32>) -> Self {
+        for unit in units {
+            // SAFETY: selecting a unit to read its sampler; the active unit is restored.
+            unsafe { self.gl.ActiveTexture(TEXTURE0 + unit) };
+            self.saved
+                .push(Saved::Sampler(unit, get_i(self.gl, SAMPLER_BINDING) as u32));
+        }
+        self
+    }
+
+    pub fn buffer(mut self, target: GLenum, binding: GLenum) -> Self {
+        self.saved.push(Saved::Buffer(target, get_i(self.gl, binding) as u32));
+        self
+    }
+
+    /// Indexed bindings `indices` of `target` (a storage or uniform buffer), with the generic
+    /// binding that binding an index also changes.
+    pub fn indexed_buffers(
+        mut self,
+        target: GLenum,
+        binding: GLenum,
+        start: GLenum,
+        size: GLenum,
+        indices: std::ops::Range<u32>,
+    ) -> Self {
+        self = self.buffer(target, binding);
+        for i in indices {
+            let (mut name, mut from, mut len) = (0i32, 0i64, 0i64);
+            // SAFETY: indexed queries into locals.
+            unsafe {
+                self.gl.GetIntegeri_v(binding, i, &mut name);
+                self.gl.GetInteger64i_v(start, i, &mut from);
+                self.gl.GetInteger64i_v(size, i, &mut len);
+            }
+            self.saved.push(Saved::IndexedBuffer(target, i, name as u32, from, len));
+        }
+        self
+    }
+
     pub fn matrix_mode(mut self) -> Self {
         self.saved.push(Saved::MatrixMode(get_i(self.gl, MATRIX_MODE)));
         self
@@ -153,6 +221,17 @@ impl<'a> StateGuard<'a> {
                 Saved::DepthMask(d) => gl.DepthMask(d),
                 Saved::PolygonMode(m) => gl.PolygonMode(FRONT_AND_BACK, m as u32),
                 Saved::MatrixMode(m) => gl.MatrixMode(m as u32),
+                Saved::DepthFunc(f) => gl.DepthFunc(f),
+                Saved::Sampler(unit, name) => gl.BindSampler(unit, name),
+                Saved::Texture(unit, target, name) => {
+                    gl.ActiveTexture(TEXTURE0 + unit);
+                    gl.BindTexture(target, name);
+                }
+                Saved::Buffer(target, name) => gl.BindBuffer(target, name),
+                Saved::IndexedBuffer(target, i, name, _, 0) => gl.BindBufferBase(target, i, name),
+                Saved::IndexedBuffer(target, i, name, start, size) => {
+                    gl.BindBufferRange(target, i, name, start as isize, size as isize)
+                }
             }
         }
     }

@@ -70,3 +70,23 @@ pub fn link(gl: &Gl, info: GlInfo, vert: &str, frag: &str) -> Result<u32, String
         Ok(p)
     }
 }
+
+/// Our compute program (desktop GL 4.3 source, used as is).
+pub fn link_compute(gl: &Gl, source: &str) -> Result<u32, String> {
+    let cs = compile(gl, COMPUTE_SHADER, source)?;
+    // SAFETY: linking our own program from our own shader.
+    unsafe {
+        let p = gl.CreateProgram();
+        gl.AttachShader(p, cs);
+        gl.LinkProgram(p);
+        gl.DeleteShader(cs);
+        let mut ok = 0;
+        gl.GetProgramiv(p, LINK_STATUS, &mut ok);
+        if ok == 0 {
+            let log = info_log(|n, l, b| gl.GetProgramInfoLog(p, n, l, b));
+            gl.DeleteProgram(p);
+            return Err(log);
+        }
+        Ok(p)
+    }
+}

@@ -49,6 +49,7 @@ fn multiview_frame(frame: u64, surface: usize, settings: &Settings) {
             return;
         };
         let (mv, presenter) = (&mut layer.views, &mut layer.presenter);
+        crate::multiview::synthesis::end_frame(gl, mv, frame);
         if let Err(e) = presenter.present(gl, mv, window, settings.view.output) {
             log::once(&COMPOSE_FAILED, Level::Error, format_args!("{e}"));
         }

@@ -201,6 +201,9 @@ pub fn clear(gl: &Gl, app: &mut AppState, mv: &mut Multiview, f: impl Fn()) {
     let Some(layout) = mv.layout().filter(|_| mv.on_default_draw(app)) else {
         return f();
     };
+    if mv.plan.before_default_draw(false) {
+        super::synthesis::warp(gl, mv);
+    }
     if !app.enabled(gl, SCISSOR_TEST) {
         return f();
     }
@@ -238,6 +241,9 @@ pub fn blit(gl: &Gl, app: &AppState, mv: &mut Multiview, src: [i32; 4], dst: [i3
         (_, None) => super::layers::current_views(gl, mv, draw),
     };
     let per_view = draw == 0 || src_layers.is_some() || dst_layers.is_some();
+    if draw == 0 && mv.plan.before_default_draw(src_layers.is_some() || read == 0) {
+        super::synthesis::warp(gl, mv);
+    }
     if !per_view {
         let s = if read == 0 {
             back(layout.map_rect(mv.camera.rig.centre(), corners(src)))
@@ -247,6 +253,14 @@ pub fn blit(gl: &Gl, app: &AppState, mv: &mut Multiview, src: [i32; 4], dst: [i3
         return f(s, dst);
     }
     for i in 0..layout.views() {
+        let drawn = if draw == 0 {
+            mv.plan.draws(i)
+        } else {
+            mv.plan.renders(i)
+        };
+        if !drawn {
+            continue;
+        }
         let s = if read == 0 {
             back(layout.map_rect(i, corners(src)))
         } else {

@@ -25,6 +25,8 @@ pub mod layers;
 pub mod layout;
 pub mod lifetime;
 pub mod link;
+pub mod measure;
+pub mod plan;
 pub mod raster;
 pub mod replay;
 pub mod sampling;
@@ -32,6 +34,7 @@ pub mod scene;
 pub mod screen_space;
 pub mod shadow;
 pub mod shift;
+pub mod synthesis;
 pub mod target;
 pub mod ubo;
 
@@ -76,6 +79,11 @@ pub struct Multiview {
     pub sheared_camera: shift::ShearedProjections,
     /// Where the main camera draws, and the copy of its depth auto-convergence reads.
     pub scene: convergence::SceneDepth,
+    /// Which views this frame renders, and whether the others have been synthesised.
+    pub plan: plan::ViewPlan,
+    pub synth: crate::synth::Synthesizer,
+    /// `--measure-error`: the exact quilt kept on measured frames.
+    pub measure: Option<measure::ErrorMeasure>,
 }
 
 impl Multiview {
@@ -83,6 +91,8 @@ impl Multiview {
     pub fn new(info: GlInfo, settings: ViewSettings, window: (u32, u32)) -> Multiview {
         let layout = QuiltLayout::new(settings.quilt, settings.tile, window);
         let camera = CameraEstimate::new(&settings, layout.views(), layout.tile_w);
+        let plan = plan::ViewPlan::new(synthesis::mode_for(&settings, info), layout.views());
+        let measure = (plan.fast() && settings.measure_error.is_some()).then(Default::default);
         Multiview {
             info,
             settings,
@@ -102,6 +112,9 @@ impl Multiview {
             sheared: Default::default(),
             sheared_camera: Default::default(),
             scene: Default::default(),
+            plan,
+            synth: Default::default(),
+            measure,
         }
     }
 
@@ -134,6 +147,10 @@ impl Multiview {
         let (textures, program) = self.scene.shared_objects();
         o.textures.extend(textures);
         o.programs.extend(program);
+        o.append(self.synth.shared_objects());
+        if let Some(m) = &self.measure {
+            o.textures.push(m.texture());
+        }
         o.lists.push(self.immediate_list);
         o.without_zeros()
     }

@@ -65,6 +65,10 @@ fn replay(
     f: &impl Fn(u32),
 ) {
     let shift = shift::of(gl, app, mv, group);
+    if app.draw_fbo == 0 && mv.plan.before_default_draw(shift.camera() || !scratch.subs.is_empty()) {
+        // The views are complete up to here; what follows (a HUD) is drawn in every view.
+        super::synthesis::warp(gl, mv);
+    }
     if mv.scene.tracker.draw(app.draw_fbo, shift.camera(), app.viewport) {
         // The scene's depth is about to be drawn over: auto-convergence copies it first.
         super::convergence::take_depth(gl, app, mv);
@@ -77,7 +81,9 @@ fn replay(
     screen_space::camera_uniforms(app, mv, identity, &mut scratch.camera_uniforms);
     let (subs, camera_uniforms) = (&scratch.subs, &scratch.camera_uniforms);
     let set_view = |mv: &Multiview, i: u32| {
-        layers::bind_layers(gl, app, subs, Some(i as usize));
+        // After the warp point a synthesised view samples its nearest rendered view's layer.
+        let layer = if mv.plan.renders(i) { i } else { mv.plan.nearest(i) };
+        layers::bind_layers(gl, app, subs, Some(layer as usize));
         screen_space::set(gl, app, mv, camera_uniforms, Some(i));
         match shift {
             Shift::Uniform { loc, mode, .. } => set_view_uniform(gl, app.program, mv, loc, i, mode),
@@ -95,6 +101,10 @@ fn replay(
         set_fragcoord(gl, app.program, fragcoord, None);
     } else if let Some(views) = layers::target_views(gl, mv, app.draw_fbo, shift.camera(), subs) {
         for (i, &fbo) in views.iter().enumerate() {
+            // Off-screen passes run for the rendered views only; the others are warped.
+            if !mv.plan.renders(i as u32) {
+                continue;
+            }
             // SAFETY: our view framebuffer in place of the app's; rebound below.
             unsafe { gl.BindFramebuffer(DRAW_FRAMEBUFFER, fbo) };
             set_view(mv, i as u32);
@@ -206,7 +216,7 @@ fn draw_tiles(
 ) {
     // SAFETY: viewport and scissor changes below are restored after the loop.
     unsafe { gl.Enable(SCISSOR_TEST) };
-    for i in 0..layout.views() {
+    for i in (0..layout.views()).filter(|&i| mv.plan.draws(i)) {
         let vp = layout.map_rect(i, app.viewport);
         let tile = layout.tile_rect(i);
         let sc = if scissored {

@@ -28,11 +28,12 @@ pub struct LayerObjects {
     pub programs: Vec<u32>,
     /// Display lists (compatibility contexts only).
     pub lists: Vec<u32>,
+    pub buffers: Vec<u32>,
 }
 
 impl LayerObjects {
     pub fn count(&self) -> usize {
-        self.textures.len() + self.renderbuffers.len() + self.programs.len() + self.lists.len()
+        self.textures.len() + self.renderbuffers.len() + self.programs.len() + self.lists.len() + self.buffers.len()
     }
 
     pub fn append(&mut self, mut other: LayerObjects) {
@@ -40,6 +41,7 @@ impl LayerObjects {
         self.renderbuffers.append(&mut other.renderbuffers);
         self.programs.append(&mut other.programs);
         self.lists.append(&mut other.lists);
+        self.buffers.append(&mut other.buffers);
     }
 
     /// Leaves out zero names (objects never created or already deleted).
@@ -49,6 +51,7 @@ impl LayerObjects {
             &mut self.renderbuffers,
             &mut self.programs,
             &mut self.lists,
+            &mut self.buffers,
         ] {
             v.retain(|&n| n != 0);
         }
@@ -61,6 +64,9 @@ impl LayerObjects {
         unsafe {
             gl.DeleteTextures(self.textures.len() as i32, self.textures.as_ptr());
             gl.DeleteRenderbuffers(self.renderbuffers.len() as i32, self.renderbuffers.as_ptr());
+            if !self.buffers.is_empty() {
+                gl.DeleteBuffers(self.buffers.len() as i32, self.buffers.as_ptr());
+            }
             for &p in &self.programs {
                 gl.DeleteProgram(p);
             }

@@ -1,0 +1,176 @@
+//! The fast modes in the quilt: at the warp point (`plan`), the rendered views' tiles and
+//! the scene's depth are handed to `synth`, which fills every other tile.
+//!
+//! Depth comes from where the main camera drew this frame (DESIGN §5): the quilt's own
+//! depth when it draws to framebuffer 0, else the matching layer of the scene framebuffer's
+//! shadow (a post-processed scene reaches framebuffer 0 through a full-screen composite
+//! whose depth means nothing). Colour always comes from the quilt tile: what the view shows.
+
+use super::Multiview;
+use crate::gl::depth_copy;
+use crate::gl::guard::StateGuard;
+use crate::gl::*;
+use crate::log::{self, Level};
+use crate::synth::{Job, ParallaxModel, Source, Target};
+use std::sync::atomic::AtomicBool;
+
+static FAILED: AtomicBool = AtomicBool::new(false);
+static ANNOUNCED: AtomicBool = AtomicBool::new(false);
+static UNSUPPORTED: AtomicBool = AtomicBool::new(false);
+
+/// The mode this context runs in: the one asked for, or exact (said once) where the
+/// synthesis passes cannot run.
+pub fn mode_for(settings: &crate::config::ViewSettings, info: crate::gl::GlInfo) -> crate::config::Mode {
+    use crate::config::Mode;
+    if settings.mode == Mode::Exact || crate::synth::Synthesizer::supported(info) {
+        return settings.mode;
+    }
+    log::once(
+        &UNSUPPORTED,
+        Level::Warn,
+        format_args!(
+            "--mode {:?} needs desktop OpenGL 4.3 (compute shaders); this context is {}{}.{}: every view is rendered exactly",
+            settings.mode,
+            if info.es { "OpenGL ES " } else { "OpenGL " },
+            info.major,
+            info.minor
+        ),
+    );
+    Mode::Exact
+}
+
+/// At the swap: a frame whose scene was drawn but never reached a warp point is warped
+/// now; a measured frame is compared and logged.
+pub fn end_frame(gl: &Gl, mv: &mut Multiview, frame: u64) {
+    if mv.plan.synthesise && !mv.plan.warped && mv.plan.scene_dirty {
+        warp(gl, mv);
+    }
+    if let (Some(m), Some(t)) = (mv.measure.as_mut(), mv.target.as_ref())
+        && let Some(e) = m.compare(gl, mv.info, t, &mv.plan.rendered)
+    {
+        let worst = e.worst().unwrap_or((0, f64::INFINITY));
+        log::info(format_args!(
+            "measure-error: frame {frame}: {} synthesised views against exact: PSNR mean {:.2} dB, worst {:.2} dB (view {})",
+            e.views.len(),
+            e.mean(),
+            worst.1,
+            worst.0
+        ));
+    }
+    let measured = mv
+        .settings
+        .measure_error
+        .as_ref()
+        .is_some_and(|f| f.contains(frame + 1));
+    mv.plan.new_frame(measured && mv.measure.is_some());
+}
+
+/// Synthesises every view the plan does not render, now, and marks the frame warped.
+pub fn warp(gl: &Gl, mv: &mut Multiview) {
+    mv.plan.mark_warped();
+    if let Some(m) = mv.measure.as_mut().filter(|_| mv.plan.all)
+        && let Some(t) = &mv.target
+    {
+        m.keep_reference(gl, mv.info, t);
+    }
+    if let Err(e) = try_warp(gl, mv) {
+        log::once(
+            &FAILED,
+            Level::Warn,
+            format_args!("view synthesis failed ({e}); every view is rendered exactly from now on"),
+        );
+        mv.plan = super::plan::ViewPlan::new(crate::config::Mode::Exact, mv.plan.views());
+    }
+}
+
+fn try_warp(gl: &Gl, mv: &mut Multiview) -> Result<(), String> {
+    let (Some(layout), Some(quilt)) = (mv.layout(), mv.quilt_fbo()) else {
+        return Ok(());
+    };
+    let rig = mv.camera.rig;
+    // Without a perspective camera seen yet there is no disparity to warp by: the rendered
+    // view is shown in every tile until there is.
+    let model = mv
+        .camera
+        .last_depth
+        .and_then(|d| ParallaxModel::new(d, rig.convergence));
+    let (depth_fbo, depth_rect) = depth_source(mv, quilt);
+    let format = {
+        let _guard = StateGuard::new(gl, mv.info).framebuffers();
+        depth_copy::describe(gl, mv.info, depth_fbo(mv.plan.rendered[0]))?
+    };
+    if format.multisampled {
+        return Err("the scene's depth is multisampled".into());
+    }
+    let sources: Vec<Source> = mv
+        .plan
+        .rendered
+        .iter()
+        .map(|&r| Source {
+            u: rig.u(r),
+            color: (quilt, layout.tile_rect(r)),
+            depth: (depth_fbo(r), depth_rect(r)),
+        })
+        .collect();
+    let index = |v: u32| mv.plan.rendered.iter().position(|&r| r == v).unwrap_or(0);
+    let targets: Vec<Target> = (0..layout.views())
+        .filter(|&i| !mv.plan.rendered.contains(&i))
+        .map(|i| {
+            let (l, r) = mv.plan.neighbours(i);
+            let near = if i.abs_diff(l) <= i.abs_diff(r) { (l, r) } else { (r, l) };
+            Target {
+                u: rig.u(i),
+                rect: layout.tile_rect(i),
+                sources: [index(near.0), index(near.1)],
+            }
+        })
+        .collect();
+    let job = Job {
+        dest_fbo: quilt,
+        sources: &sources,
+        targets: &targets,
+        tile: (layout.tile_w as i32, layout.tile_h as i32),
+        depth_format: format.format,
+        model: model.unwrap_or(ParallaxModel::FLAT),
+        depthiness: if model.is_some() { rig.depthiness } else { 0.0 },
+        focus: rig.focus,
+        threshold: mv.settings.synth_threshold,
+    };
+    if !ANNOUNCED.swap(true, std::sync::atomic::Ordering::Relaxed) {
+        log::info(format_args!(
+            "synthesis: {} of {} views rendered, the others warped by an adaptive quad grid \
+             (cells 32 px down to 1 px, split above {} px of disparity range)",
+            sources.len(),
+            layout.views(),
+            job.threshold
+        ));
+    }
+    let info = mv.info;
+    drop((depth_fbo, depth_rect));
+    let mut synth = std::mem::take(&mut mv.synth);
+    let result = synth.warp(gl, info, &job);
+    mv.synth = synth;
+    result
+}
+
+/// The framebuffer and rectangle holding view `r`'s scene depth, as functions of `r`.
+fn depth_source(mv: &Multiview, quilt: u32) -> (impl Fn(u32) -> u32 + '_, impl Fn(u32) -> [i32; 4] + '_) {
+    let shadow = mv
+        .scene
+        .tracker
+        .target
+        .filter(|&t| t != 0)
+        .and_then(|t| mv.shadows.get(&t))
+        .filter(|s| !s.stale);
+    let layout = mv.layout();
+    let fbo = move |r: u32| match shadow {
+        Some(s) => s.views.get(r as usize).copied().unwrap_or(quilt),
+        None => quilt,
+    };
+    let rect = move |r: u32| match (shadow, layout) {
+        (Some(s), _) => [0, 0, s.size.0, s.size.1],
+        (None, Some(l)) => l.tile_rect(r),
+        (None, None) => [0, 0, 1, 1],
+    };
+    (fbo, rect)
+}

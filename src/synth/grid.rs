@@ -1,0 +1,313 @@
+//! The passes of the adaptive quad-grid warp (see the module comment of `synth`).
+
+use super::resources::{COMMAND_STRIDE, LEAF_BYTES, LEVELS, Resources, level_size};
+use super::{Job, Source};
+use crate::gl::GlInfo;
+use crate::gl::guard::StateGuard;
+use crate::gl::*;
+use std::ffi::CString;
+
+const FULLSCREEN_VERT: &str = include_str!("../../glsl-patches/fullscreen.vert");
+const PARALLAX_FRAG: &str = include_str!("../../glsl-patches/synth_parallax.frag");
+const MINMAX_FRAG: &str = include_str!("../../glsl-patches/synth_minmax.frag");
+const LEAVES_COMP: &str = include_str!("../../glsl-patches/synth_leaves.comp");
+const WARP_VERT: &str = include_str!("../../glsl-patches/synth_warp.vert");
+const WARP_FRAG: &str = include_str!("../../glsl-patches/synth_warp.frag");
+
+/// Window depth between a stretched (disocclusion) quad and the surface it lies on.
+const STRETCHED_BIAS: f32 = 1.0 / 16384.0;
+
+#[derive(Clone, Copy, Debug)]
+pub struct Programs {
+    parallax: u32,
+    minmax: u32,
+    leaves: u32,
+    warp: u32,
+}
+
+impl Programs {
+    pub fn link(gl: &Gl, info: GlInfo) -> Result<Programs, String> {
+        let link = |frag| crate::gl::program::link(gl, info, FULLSCREEN_VERT, frag);
+        let p = Programs {
+            parallax: link(PARALLAX_FRAG).map_err(|e| format!("synthesis parallax pass: {e}"))?,
+            minmax: link(MINMAX_FRAG).map_err(|e| format!("synthesis pyramid pass: {e}"))?,
+            leaves: crate::gl::program::link_compute(gl, LEAVES_COMP)
+                .map_err(|e| format!("synthesis grid pass: {e}"))?,
+            warp: crate::gl::program::link(gl, info, WARP_VERT, WARP_FRAG)
+                .map_err(|e| format!("synthesis warp pass: {e}"))?,
+        };
+        Ok(p)
+    }
+
+    pub fn names(&self) -> [u32; 4] {
+        [self.parallax, self.minmax, self.leaves, self.warp]
+    }
+}
+
+/// Everything the passes change, put back when dropped.
+pub fn guard(gl: &Gl, info: GlInfo) -> StateGuard<'_> {
+    StateGuard::new(gl, info)
+        .framebuffers()
+        .for_pass()
+        .scissor()
+        .depth_func()
+        .textures(TEXTURE_2D_ARRAY, TEXTURE_BINDING_2D_ARRAY, 0..3)
+        .samplers(0..3)
+        .buffer(ARRAY_BUFFER, ARRAY_BUFFER_BINDING)
+        .buffer(DRAW_INDIRECT_BUFFER, DRAW_INDIRECT_BUFFER_BINDING)
+        .indexed_buffers(
+            SHADER_STORAGE_BUFFER,
+            SHADER_STORAGE_BUFFER_BINDING,
+            SHADER_STORAGE_BUFFER_START,
+            SHADER_STORAGE_BUFFER_SIZE,
+            0..2,
+        )
+}
+
+fn loc(gl: &Gl, program: u32, name: &str) -> i32 {
+    let c = CString::new(name).unwrap_or_default();
+    // SAFETY: a NUL-terminated name for our linked program.
+    unsafe { gl.GetUniformLocation(program, c.as_ptr()) }
+}
+
+pub struct Pass<'a> {
+    pub gl: &'a Gl,
+    pub programs: &'a Programs,
+    pub res: &'a Resources,
+    pub fbo: u32,
+    pub vao: u32,
+}
+
+impl Pass<'_> {
+    pub fn run(&self, job: &Job) -> Result<(), String> {
+        for (j, source) in job.sources.iter().enumerate() {
+            self.copy_source(j, source, job)?;
+            self.pyramid(j, job);
+            self.list_leaves(j, job);
+        }
+        // SAFETY: the leaf lists are read as vertex attributes and draw commands next.
+        unsafe {
+            self.gl
+                .MemoryBarrier(VERTEX_ATTRIB_ARRAY_BARRIER_BIT | COMMAND_BARRIER_BIT)
+        };
+        self.draw_targets(job);
+        Ok(())
+    }
+
+    /// Attaches layer `layer` of `texture` (0: nothing) at `point` of our framebuffer, bound
+    /// for drawing.
+    fn attach(&self, point: GLenum, texture: u32, layer: usize) {
+        // SAFETY: our own framebuffer and textures.
+        unsafe {
+            self.gl.BindFramebuffer(DRAW_FRAMEBUFFER, self.fbo);
+            self.gl
+                .FramebufferTextureLayer(DRAW_FRAMEBUFFER, point, texture, 0, layer as i32);
+        }
+    }
+
+    fn detach_all(&self) {
+        for point in [COLOR_ATTACHMENT0, DEPTH_ATTACHMENT, STENCIL_ATTACHMENT] {
+            self.attach(point, 0, 0);
+        }
+    }
+
+    /// The source's colour and depth into layer `j` of our arrays (depth blits need the
+    /// source's own format, which our array has).
+    fn copy_source(&self, j: usize, s: &Source, job: &Job) -> Result<(), String> {
+        let gl = self.gl;
+        let (tw, th) = job.tile;
+        let blit = |read: u32, r: [i32; 4], mask: u32, filter: GLenum| {
+            // SAFETY: a blit between a framebuffer of the layer's and ours.
+            unsafe {
+                gl.BindFramebuffer(READ_FRAMEBUFFER, read);
+                gl.BlitFramebuffer(r[0], r[1], r[0] + r[2], r[1] + r[3], 0, 0, tw, th, mask, filter);
+            }
+        };
+        self.detach_all();
+        self.attach(COLOR_ATTACHMENT0, self.res.color, j);
+        blit(s.color.0, s.color.1, COLOR_BUFFER_BIT, NEAREST);
+        self.detach_all();
+        let stencil = matches!(job.depth_format, DEPTH24_STENCIL8 | DEPTH32F_STENCIL8);
+        let point = if stencil {
+            DEPTH_STENCIL_ATTACHMENT
+        } else {
+            DEPTH_ATTACHMENT
+        };
+        self.attach(point, self.res.depth, j);
+        // SAFETY: no colour buffer to draw into while only depth is attached.
+        unsafe { gl.DrawBuffer(NONE) };
+        blit(s.depth.0, s.depth.1, DEPTH_BUFFER_BIT, NEAREST);
+        // SAFETY: our framebuffer's draw buffer back to its colour attachment.
+        unsafe { gl.DrawBuffer(COLOR_ATTACHMENT0) };
+        self.detach_all();
+        Ok(())
+    }
+
+    /// A full-screen pass of `program` into layer `j` of `texture`, `size` pixels.
+    fn fullscreen(&self, program: u32, texture: u32, j: usize, size: (i32, i32)) {
+        self.attach(COLOR_ATTACHMENT0, texture, j);
+        // SAFETY: our program, framebuffer and empty vertex array.
+        unsafe {
+            self.gl.Viewport(0, 0, size.0, size.1);
+            self.gl.UseProgram(program);
+            self.gl.BindVertexArray(self.vao);
+            self.gl.DrawArrays(TRIANGLES, 0, 3);
+        }
+    }
+
+    fn bind_array(&self, unit: u32, texture: u32) {
+        // SAFETY: our texture on a unit the guard restores.
+        unsafe {
+            self.gl.ActiveTexture(TEXTURE0 + unit);
+            self.gl.BindTexture(TEXTURE_2D_ARRAY, texture);
+        }
+    }
+
+    /// Parallax per pixel, then its min/max pyramid.
+    fn pyramid(&self, j: usize, job: &Job) {
+        let (gl, p, res) = (self.gl, self.programs, self.res);
+        self.bind_array(0, res.depth);
+        // SAFETY: uniforms of our own program.
+        unsafe {
+            gl.UseProgram(p.parallax);
+            gl.Uniform1i(loc(gl, p.parallax, "u_depth"), 0);
+            gl.Uniform1i(loc(gl, p.parallax, "u_layer"), j as i32);
+            let m = job.model;
+            gl.Uniform4f(loc(gl, p.parallax, "u_model"), m.a_hi, m.a_lo, m.scale, 0.0);
+        }
+        self.fullscreen(p.parallax, res.parallax, j, res.tile);
+        for l in 0..LEVELS {
+            let src = if l == 0 { res.parallax } else { res.levels[l - 1] };
+            self.bind_array(0, src);
+            // SAFETY: as above.
+            unsafe {
+                gl.UseProgram(p.minmax);
+                gl.Uniform1i(loc(gl, p.minmax, "u_src"), 0);
+                gl.Uniform1i(loc(gl, p.minmax, "u_layer"), j as i32);
+                gl.Uniform1i(loc(gl, p.minmax, "u_first"), (l == 0) as i32);
+            }
+            self.fullscreen(p.minmax, res.levels[l], j, level_size(res.tile, l));
+        }
+        self.attach(COLOR_ATTACHMENT0, 0, 0);
+    }
+
+    /// Source `j`'s leaf cells, appended to its list by one dispatch per level.
+    fn list_leaves(&self, j: usize, job: &Job) {
+        let (gl, p, res) = (self.gl, self.programs.leaves, self.res);
+        let reach = job
+            .targets
+            .iter()
+            .filter(|t| t.sources.contains(&j))
+            .map(|t| (t.u - job.sources[j].u).abs())
+            .fold(0.0, f64::max);
+        let scale = job.depthiness.abs() * job.tile.0 as f64 / 2.0 * reach;
+        let command: [u32; 4] = [4, 0, 0, 0];
+        // SAFETY: our buffers and program; bindings are restored by the guard.
+        unsafe {
+            gl.BindBuffer(DRAW_INDIRECT_BUFFER, res.commands);
+            gl.BufferSubData(
+                DRAW_INDIRECT_BUFFER,
+                j as isize * COMMAND_STRIDE,
+                16,
+                command.as_ptr().cast(),
+            );
+            gl.BindBufferRange(
+                SHADER_STORAGE_BUFFER,
+                0,
+                res.leaves,
+                j as isize * res.leaf_stride,
+                res.leaf_stride,
+            );
+            gl.BindBufferRange(SHADER_STORAGE_BUFFER, 1, res.commands, j as isize * COMMAND_STRIDE, 16);
+            gl.UseProgram(p);
+            gl.Uniform1i(loc(gl, p, "u_parallax"), 0);
+            gl.Uniform1i(loc(gl, p, "u_level"), 1);
+            gl.Uniform1i(loc(gl, p, "u_parent"), 2);
+            gl.Uniform1i(loc(gl, p, "u_layer"), j as i32);
+            gl.Uniform1f(loc(gl, p, "u_scale"), scale as f32);
+            gl.Uniform1f(loc(gl, p, "u_threshold"), job.threshold as f32);
+            gl.Uniform2i(loc(gl, p, "u_tile"), res.tile.0, res.tile.1);
+        }
+        self.bind_array(0, res.parallax);
+        for l in (0..LEVELS).rev() {
+            self.bind_array(1, res.levels[l]);
+            self.bind_array(2, res.levels[(l + 1).min(LEVELS - 1)]);
+            let (cw, ch) = level_size(res.tile, l);
+            // SAFETY: as above; the barrier orders the appends of consecutive levels.
+            unsafe {
+                gl.Uniform1i(loc(gl, p, "u_cell"), 2 << l);
+                gl.Uniform1i(loc(gl, p, "u_top"), (l == LEVELS - 1) as i32);
+                gl.DispatchCompute((cw as u32).div_ceil(8), (ch as u32).div_ceil(8), 1);
+                gl.MemoryBarrier(SHADER_STORAGE_BARRIER_BIT);
+            }
+        }
+    }
+
+    /// Every target tile: depth cleared to the far value, then each of its sources' leaves
+    /// drawn, the preferred source last (it wins depth ties).
+    fn draw_targets(&self, job: &Job) {
+        let (gl, p, res) = (self.gl, self.programs.warp, self.res);
+        let far = [job.model.far_depth()];
+        let (tw, th) = job.tile;
+        // SAFETY: our program, vertex array and buffers; the destination is the layer's own
+        // framebuffer. All of it is restored by the guard.
+        unsafe {
+            gl.BindFramebuffer(DRAW_FRAMEBUFFER, job.dest_fbo);
+            gl.Enable(DEPTH_TEST);
+            // Or-equal: the background at the far value itself must be drawn over the clear.
+            gl.DepthFunc(if job.model.reversed { GEQUAL } else { LEQUAL });
+            gl.DepthMask(TRUE);
+            gl.Enable(SCISSOR_TEST);
+            gl.UseProgram(p);
+            gl.Uniform1i(loc(gl, p, "u_color"), 0);
+            gl.Uniform1i(loc(gl, p, "u_depth"), 1);
+            gl.Uniform1i(loc(gl, p, "u_parallax"), 2);
+            gl.Uniform2f(loc(gl, p, "u_tile"), tw as f32, th as f32);
+            let px = job.tile.0 as f64 / 2.0;
+            gl.Uniform2f(
+                loc(gl, p, "u_px"),
+                (job.depthiness * px) as f32,
+                (job.focus * px) as f32,
+            );
+            gl.Uniform1f(loc(gl, p, "u_margin"), 0.5);
+            let bias = if job.model.reversed {
+                -STRETCHED_BIAS
+            } else {
+                STRETCHED_BIAS
+            };
+            gl.Uniform1f(loc(gl, p, "u_far_bias"), bias);
+            gl.BindVertexArray(self.vao);
+            gl.BindBuffer(ARRAY_BUFFER, res.leaves);
+            gl.EnableVertexAttribArray(0);
+            gl.EnableVertexAttribArray(1);
+            gl.VertexAttribDivisor(0, 1);
+            gl.VertexAttribDivisor(1, 1);
+            gl.BindBuffer(DRAW_INDIRECT_BUFFER, res.commands);
+        }
+        self.bind_array(0, res.color);
+        self.bind_array(1, res.depth);
+        self.bind_array(2, res.parallax);
+        let (u_du, u_layer) = (loc(gl, p, "u_du"), loc(gl, p, "u_layer"));
+        for t in job.targets {
+            let r = t.rect;
+            // SAFETY: as above.
+            unsafe {
+                gl.Viewport(r[0], r[1], r[2], r[3]);
+                gl.Scissor(r[0], r[1], r[2], r[3]);
+                gl.ClearBufferfv(DEPTH, 0, far.as_ptr());
+            }
+            let second = (t.sources[1] != t.sources[0]).then_some(t.sources[1]);
+            for j in second.into_iter().chain(std::iter::once(t.sources[0])) {
+                let base = j as isize * res.leaf_stride;
+                // SAFETY: as above; attribute offsets into our leaf buffer.
+                unsafe {
+                    gl.VertexAttribIPointer(0, 4, UNSIGNED_INT, LEAF_BYTES as i32, base as *const _);
+                    gl.VertexAttribPointer(1, 4, FLOAT, FALSE, LEAF_BYTES as i32, (base + 16) as *const _);
+                    gl.Uniform1f(u_du, (t.u - job.sources[j].u) as f32);
+                    gl.Uniform1i(u_layer, j as i32);
+                    gl.DrawArraysIndirect(TRIANGLE_STRIP, (j as isize * COMMAND_STRIDE) as *const _);
+                }
+            }
+        }
+    }
+}

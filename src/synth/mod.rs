@@ -1,0 +1,139 @@
+//! Image-space view synthesis (DESIGN §5): views made by warping rendered views by their
+//! depth instead of replaying the app's draws.
+//!
+//! This module knows nothing of the app: it is handed where each rendered view's colour and
+//! depth are (framebuffers and rectangles), which target tiles to fill from which of them,
+//! and the depth model; it copies the sources into arrays of its own and warps them on the
+//! GPU with the adaptive quad grid of Didyk et al. (2011) (`grid`):
+//!
+//! 1. per source: parallax `p = 1 - c/w` per pixel (`disparity`), then a min/max pyramid of
+//!    it (one pass per level, cells of 2 to 32 pixels);
+//! 2. per source: a compute pass per level lists the leaf cells (split while the parallax
+//!    range, in pixels of the outermost target view, exceeds the threshold);
+//! 3. per target: its tile's depth cleared, then one instanced draw of each source's leaves,
+//!    each corner moved by its disparity, depth-tested so nearer surfaces win.
+//!
+//! Nothing here waits for the GPU or reads anything back.
+
+pub mod disparity;
+mod grid;
+mod resources;
+
+pub use disparity::ParallaxModel;
+
+use crate::gl::GlInfo;
+use crate::gl::*;
+use crate::state::orphans::LayerObjects;
+
+/// A rendered view to warp from.
+#[derive(Clone, Copy, Debug)]
+pub struct Source {
+    /// Its camera position `u` in [-1, 1] (DESIGN §3).
+    pub u: f64,
+    /// Framebuffer and rectangle holding its colour (colour attachment 0).
+    pub color: (u32, [i32; 4]),
+    /// Framebuffer and rectangle holding its depth.
+    pub depth: (u32, [i32; 4]),
+}
+
+/// A view to synthesise.
+#[derive(Clone, Copy, Debug)]
+pub struct Target {
+    pub u: f64,
+    /// Its tile in the destination framebuffer.
+    pub rect: [i32; 4],
+    /// Indices into the sources, the preferred one first (equal when there is one).
+    pub sources: [usize; 2],
+}
+
+pub struct Job<'a> {
+    pub dest_fbo: u32,
+    pub sources: &'a [Source],
+    pub targets: &'a [Target],
+    pub tile: (i32, i32),
+    /// The sources' depth format (their copies must match it).
+    pub depth_format: GLenum,
+    pub model: ParallaxModel,
+    pub depthiness: f64,
+    pub focus: f64,
+    /// Largest parallax range of a grid cell, in pixels of the outermost target view.
+    pub threshold: f64,
+}
+
+/// Per-context synthesis state: programs, working textures, a framebuffer and vertex array.
+#[derive(Default)]
+pub struct Synthesizer {
+    programs: Option<Result<grid::Programs, String>>,
+    resources: Option<resources::Resources>,
+    fbo: u32,
+    vao: u32,
+}
+
+impl Synthesizer {
+    /// Compute shaders and storage buffers (desktop GL 4.3) are what the grid is built with.
+    pub fn supported(info: GlInfo) -> bool {
+        !info.es && info.at_least(4, 3)
+    }
+
+    /// Warps every target of `job` from its sources into the destination framebuffer. All
+    /// state it touches is put back.
+    pub fn warp(&mut self, gl: &Gl, info: GlInfo, job: &Job) -> Result<(), String> {
+        if job.sources.is_empty() || job.targets.is_empty() {
+            return Ok(());
+        }
+        let programs = match &self.programs {
+            Some(p) => p.clone()?,
+            None => {
+                let p = grid::Programs::link(gl, info);
+                self.programs = Some(p.clone());
+                p?
+            }
+        };
+        let _guard = grid::guard(gl, info);
+        crate::gl::guard::neutral_pass_state(gl, info);
+        if self.fbo == 0 {
+            // SAFETY: our own framebuffer and vertex array (per context).
+            unsafe {
+                gl.GenFramebuffers(1, &mut self.fbo);
+                gl.GenVertexArrays(1, &mut self.vao);
+            }
+        }
+        let fits = self
+            .resources
+            .as_ref()
+            .is_some_and(|r| r.fits(job.tile, job.sources.len(), job.depth_format));
+        if !fits {
+            if let Some(old) = self.resources.take() {
+                old.delete(gl);
+            }
+            self.resources = Some(resources::Resources::create(
+                gl,
+                job.tile,
+                job.sources.len(),
+                job.depth_format,
+            ));
+        }
+        let res = self.resources.as_ref().ok_or("no resources")?;
+        let pass = grid::Pass {
+            gl,
+            programs: &programs,
+            res,
+            fbo: self.fbo,
+            vao: self.vao,
+        };
+        pass.run(job)
+    }
+
+    /// What of ours is shared with the context's share group.
+    pub fn shared_objects(&self) -> LayerObjects {
+        let mut o = LayerObjects::default();
+        if let Some(Ok(p)) = &self.programs {
+            o.programs.extend(p.names());
+        }
+        if let Some(r) = &self.resources {
+            o.textures.extend(r.textures());
+            o.buffers.extend(r.buffers());
+        }
+        o
+    }
+}
