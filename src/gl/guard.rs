@@ -26,6 +26,7 @@ enum Saved {
     PolygonMode(i32),
     MatrixMode(i32),
     DepthFunc(u32),
+    DepthRange([f64; 2]),
     Sampler(u32, u32),
     /// (unit, target, name)
     Texture(u32, GLenum, u32),
@@ -136,6 +137,14 @@ impl<'a> StateGuard<'a> {
         self.caps(&caps).viewport()
     }
 
+    pub fn depth_range(mut self) -> Self {
+        let mut r = [0.0f64; 2];
+        // SAFETY: two doubles into a local array.
+        unsafe { self.gl.GetDoublev(DEPTH_RANGE, r.as_mut_ptr()) };
+        self.saved.push(Saved::DepthRange(r));
+        self
+    }
+
     pub fn depth_func(mut self) -> Self {
         self.saved.push(Saved::DepthFunc(get_i(self.gl, DEPTH_FUNC) as u32));
         self
@@ -222,6 +231,7 @@ impl<'a> StateGuard<'a> {
                 Saved::PolygonMode(m) => gl.PolygonMode(FRONT_AND_BACK, m as u32),
                 Saved::MatrixMode(m) => gl.MatrixMode(m as u32),
                 Saved::DepthFunc(f) => gl.DepthFunc(f),
+                Saved::DepthRange(r) => gl.DepthRange(r[0], r[1]),
                 Saved::Sampler(unit, name) => gl.BindSampler(unit, name),
                 Saved::Texture(unit, target, name) => {
                     gl.ActiveTexture(TEXTURE0 + unit);

@@ -20,7 +20,9 @@ pub fn boundary(surface: usize, present: impl FnOnce()) {
     let frame = FRAME.fetch_add(1, Ordering::Relaxed) + 1;
     let settings = crate::config::settings();
     crate::state::delete_orphans();
-    timing::tick(frame);
+    let measured = settings.view.mode != crate::config::Mode::Exact
+        && settings.view.measure_error.as_ref().is_some_and(|f| f.contains(frame));
+    timing::tick(frame, measured);
     if settings.multiview() {
         multiview_frame(frame, surface, settings);
     }

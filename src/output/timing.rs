@@ -34,11 +34,12 @@ pub fn median(v: &mut [f64]) -> Option<f64> {
     })
 }
 
-/// Called at every frame boundary, before presenting.
-pub fn tick(frame: u64) {
+/// Called at every frame boundary, before presenting; `measured`: the frame also rendered
+/// every view exactly to measure the error (`--measure-error`), so its time is not counted.
+pub fn tick(frame: u64, measured: bool) {
     let now = Instant::now();
     let mut t = TIMING.lock().unwrap_or_else(|e| e.into_inner());
-    if let Some(last) = t.last.replace(now).filter(|_| frame > WARM_UP) {
+    if let Some(last) = t.last.replace(now).filter(|_| frame > WARM_UP && !measured) {
         let ms = now.duration_since(last).as_secs_f64() * 1e3;
         t.intervals_ms.push(ms);
         t.all_ms.push(ms);

@@ -1,6 +1,6 @@
 //! The passes of the adaptive quad-grid warp (see the module comment of `synth`).
 
-use super::resources::{COMMAND_STRIDE, LEAF_BYTES, LEVELS, Resources, level_size};
+use super::resources::{COMMAND_STRIDE, LEVELS, Resources, level_size};
 use super::{Job, Source};
 use crate::gl::GlInfo;
 use crate::gl::guard::StateGuard;
@@ -51,8 +51,10 @@ pub fn guard(gl: &Gl, info: GlInfo) -> StateGuard<'_> {
         .for_pass()
         .scissor()
         .depth_func()
-        .textures(TEXTURE_2D_ARRAY, TEXTURE_BINDING_2D_ARRAY, 0..3)
-        .samplers(0..3)
+        .textures(TEXTURE_2D_ARRAY, TEXTURE_BINDING_2D_ARRAY, 0..4)
+        .textures(TEXTURE_BUFFER, TEXTURE_BINDING_BUFFER, 4..5)
+        .samplers(0..5)
+        .depth_range()
         .buffer(ARRAY_BUFFER, ARRAY_BUFFER_BINDING)
         .buffer(DRAW_INDIRECT_BUFFER, DRAW_INDIRECT_BUFFER_BINDING)
         .indexed_buffers(
@@ -62,6 +64,11 @@ pub fn guard(gl: &Gl, info: GlInfo) -> StateGuard<'_> {
             SHADER_STORAGE_BUFFER_SIZE,
             0..2,
         )
+}
+
+/// The context's clip depth mode is `GL_ZERO_TO_ONE` (GL 4.5 `glClipControl`).
+fn zero_to_one(gl: &Gl) -> bool {
+    gl.ClipControl.is_loaded() && crate::gl::guard::get_i(gl, CLIP_DEPTH_MODE) as u32 == ZERO_TO_ONE
 }
 
 fn loc(gl: &Gl, program: u32, name: &str) -> i32 {
@@ -201,7 +208,7 @@ impl Pass<'_> {
             .map(|t| (t.u - job.sources[j].u).abs())
             .fold(0.0, f64::max);
         let scale = job.depthiness.abs() * job.tile.0 as f64 / 2.0 * reach;
-        let command: [u32; 4] = [4, 0, 0, 0];
+        let command: [u32; 4] = [0, 1, 0, 0];
         // SAFETY: our buffers and program; bindings are restored by the guard.
         unsafe {
             gl.BindBuffer(DRAW_INDIRECT_BUFFER, res.commands);
@@ -223,12 +230,14 @@ impl Pass<'_> {
             gl.Uniform1i(loc(gl, p, "u_parallax"), 0);
             gl.Uniform1i(loc(gl, p, "u_level"), 1);
             gl.Uniform1i(loc(gl, p, "u_parent"), 2);
+            gl.Uniform1i(loc(gl, p, "u_depth"), 3);
             gl.Uniform1i(loc(gl, p, "u_layer"), j as i32);
             gl.Uniform1f(loc(gl, p, "u_scale"), scale as f32);
             gl.Uniform1f(loc(gl, p, "u_threshold"), job.threshold as f32);
             gl.Uniform2i(loc(gl, p, "u_tile"), res.tile.0, res.tile.1);
         }
         self.bind_array(0, res.parallax);
+        self.bind_array(3, res.depth);
         for l in (0..LEVELS).rev() {
             self.bind_array(1, res.levels[l]);
             self.bind_array(2, res.levels[(l + 1).min(LEVELS - 1)]);
@@ -262,6 +271,8 @@ impl Pass<'_> {
             gl.Uniform1i(loc(gl, p, "u_color"), 0);
             gl.Uniform1i(loc(gl, p, "u_depth"), 1);
             gl.Uniform1i(loc(gl, p, "u_parallax"), 2);
+            gl.DepthRange(0.0, 1.0);
+            gl.Uniform1i(loc(gl, p, "u_zero_to_one"), zero_to_one(gl) as i32);
             gl.Uniform2f(loc(gl, p, "u_tile"), tw as f32, th as f32);
             let px = job.tile.0 as f64 / 2.0;
             gl.Uniform2f(
@@ -277,11 +288,9 @@ impl Pass<'_> {
             };
             gl.Uniform1f(loc(gl, p, "u_far_bias"), bias);
             gl.BindVertexArray(self.vao);
-            gl.BindBuffer(ARRAY_BUFFER, res.leaves);
-            gl.EnableVertexAttribArray(0);
-            gl.EnableVertexAttribArray(1);
-            gl.VertexAttribDivisor(0, 1);
-            gl.VertexAttribDivisor(1, 1);
+            gl.Uniform1i(loc(gl, p, "u_leaves"), 4);
+            gl.ActiveTexture(TEXTURE4);
+            gl.BindTexture(TEXTURE_BUFFER, res.leaf_view);
             gl.BindBuffer(DRAW_INDIRECT_BUFFER, res.commands);
         }
         self.bind_array(0, res.color);
@@ -299,13 +308,13 @@ impl Pass<'_> {
             let second = (t.sources[1] != t.sources[0]).then_some(t.sources[1]);
             for j in second.into_iter().chain(std::iter::once(t.sources[0])) {
                 let base = j as isize * res.leaf_stride;
-                // SAFETY: as above; attribute offsets into our leaf buffer.
+                // SAFETY: as above; the buffer texture views source j's leaf list.
                 unsafe {
-                    gl.VertexAttribIPointer(0, 4, UNSIGNED_INT, LEAF_BYTES as i32, base as *const _);
-                    gl.VertexAttribPointer(1, 4, FLOAT, FALSE, LEAF_BYTES as i32, (base + 16) as *const _);
+                    gl.ActiveTexture(TEXTURE4);
+                    gl.TexBufferRange(TEXTURE_BUFFER, RGBA32UI, res.leaves, base, res.leaf_stride);
                     gl.Uniform1f(u_du, (t.u - job.sources[j].u) as f32);
                     gl.Uniform1i(u_layer, j as i32);
-                    gl.DrawArraysIndirect(TRIANGLE_STRIP, (j as isize * COMMAND_STRIDE) as *const _);
+                    gl.DrawArraysIndirect(TRIANGLES, (j as isize * COMMAND_STRIDE) as *const _);
                 }
             }
         }

@@ -5,8 +5,8 @@ use crate::gl::*;
 
 /// Pyramid levels: cells of 2, 4, 8, 16 and 32 pixels.
 pub const LEVELS: usize = 5;
-/// Bytes per leaf (`uvec4 rect; vec4 corners` in std430).
-pub const LEAF_BYTES: isize = 32;
+/// Bytes per leaf (`uvec4 rect; vec4 corners; vec4 depths` in std430).
+pub const LEAF_BYTES: isize = 48;
 /// Bytes between the per-source draw commands (any storage-buffer offset alignment a driver
 /// asks for is at most this).
 pub const COMMAND_STRIDE: isize = 256;
@@ -22,6 +22,8 @@ pub struct Resources {
     pub parallax: u32,
     pub levels: [u32; LEVELS],
     pub leaves: u32,
+    /// A buffer texture over `leaves`, which the warp's vertex shader reads.
+    pub leaf_view: u32,
     pub commands: u32,
     /// Bytes of the leaf list of one source (room for one leaf per pixel).
     pub leaf_stride: isize,
@@ -58,9 +60,9 @@ impl Resources {
         let leaf_stride = ((tile.0 as isize * tile.1 as isize * LEAF_BYTES) + 255) / 256 * 256;
         let mut levels = [0; LEVELS];
         for (l, t) in levels.iter_mut().enumerate() {
-            *t = array(gl, RG32F, level_size(tile, l), sources, NEAREST);
+            *t = array(gl, RGBA32F, level_size(tile, l), sources, NEAREST);
         }
-        let (mut leaves, mut commands) = (0, 0);
+        let (mut leaves, mut commands, mut leaf_view) = (0, 0, 0);
         // SAFETY: our own buffers; the caller's guard restores ARRAY_BUFFER.
         unsafe {
             gl.GenBuffers(1, &mut leaves);
@@ -89,6 +91,7 @@ impl Resources {
             parallax: array(gl, R32F, tile, sources, NEAREST),
             levels,
             leaves,
+            leaf_view,
             commands,
             leaf_stride,
         }
@@ -99,7 +102,7 @@ impl Resources {
     }
 
     pub fn textures(&self) -> Vec<u32> {
-        let mut t = vec![self.color, self.depth, self.parallax];
+        let mut t = vec![self.color, self.depth, self.parallax, self.leaf_view];
         t.extend(self.levels);
         t
     }
