@@ -81,6 +81,7 @@ impl Resources {
                 core::ptr::null(),
                 DYNAMIC_COPY,
             );
+            gl.GenTextures(1, &mut leaf_view);
         }
         Resources {
             tile,
