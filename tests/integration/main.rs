@@ -19,3 +19,4 @@ mod output_modes;
 mod real_programs;
 mod reattachment;
 mod sample_apps;
+mod synthesis;

@@ -1,0 +1,157 @@
+//! The fast modes (DESIGN §5) on the sample apps, checked against `--mode exact` of the same
+//! frame: what a viewer of the synthesised views would see.
+
+use crate::util::*;
+use std::path::{Path, PathBuf};
+
+const SIZE: &str = "320x240";
+/// The rig of the sample apps' reference-quilt tests: about 19 px of disparity at infinity
+/// in the outer views of a 320-px tile.
+const RIG: [&str; 6] = ["--depthiness", "0.12", "--convergence", "9", "--focus", "0"];
+
+/// Frame 3 of `app` under the layer as a `quilt` quilt made in `mode`; returns the quilt
+/// image's path and the layer's log.
+fn quilt_in(dir: &Path, app_name: &str, quilt: &str, mode: &str, extra: &[&str]) -> (PathBuf, String) {
+    let dump = dir.join(mode.replace(':', "-"));
+    let mut options = vec!["--log", "info", "--output", "quilt", "--quilt", quilt, "--mode", mode];
+    options.extend(RIG);
+    options.extend_from_slice(extra);
+    options.extend(dump_and_exit_at(&dump, "3"));
+    let args = ["--backend", "glx", "--size", SIZE, "--frames", "3"];
+    let out = under_layer(&options, app(app_name), &args, &[]);
+    assert_success(&out, &format!("{app_name} --mode {mode}"));
+    assert_layer_loaded(&out);
+    let err = stderr(&out);
+    assert!(!err.contains("holoinject: warn"), "{app_name} --mode {mode}:\n{err}");
+    (dump.join(format!("f000003_qs{quilt}a1.3333.png")), err)
+}
+
+/// `hybrid:N` renders every view: it must be `exact`, bit for bit.
+#[test]
+fn hybrid_rendering_every_view_is_exact() {
+    require_display();
+    let dir = temp_dir("synth_hybrid_all");
+    let (exact, _) = quilt_in(&dir, "cubes", "5x1", "exact", &[]);
+    let (hybrid, _) = quilt_in(&dir, "cubes", "5x1", "hybrid:5", &[]);
+    assert_identical(&exact, &hybrid);
+}
+
+/// One rendered view, four warped: the centre is exact, the others match exact's views to a
+/// bound measured on this scene (27.4-29.2 dB; a view merely copied from the centre scores
+/// 15-17 dB), and they show depth as exact does: near and far move apart, mirrored.
+#[test]
+fn synth_views_match_exact_and_show_depth() {
+    require_display();
+    let dir = temp_dir("synth_cubes");
+    let (exact, _) = quilt_in(&dir, "cubes", "5x1", "exact", &[]);
+    let (synth, log) = quilt_in(&dir, "cubes", "5x1", "synth", &[]);
+    assert!(log.contains("synthesis: 1 of 5 views rendered"), "{log}");
+    let (e, s) = (read_png(&exact), read_png(&synth));
+    let psnr = tile_psnr(&e, &s, 5, 1);
+    eprintln!("synth against exact, per view: {psnr:.2?}");
+    assert!(
+        psnr[2].is_infinite(),
+        "the rendered centre view must be exact: {psnr:?}"
+    );
+    for (i, p) in psnr.iter().enumerate().filter(|&(i, _)| i != 2) {
+        assert!(*p >= 26.0, "view {i}: {p:.2} dB against exact ({psnr:.2?})");
+        let copied = tile_psnr(&tile(&e, 5, 1, i as u32), &tile(&s, 5, 1, 2), 1, 1)[0];
+        assert!(
+            *p > copied + 6.0,
+            "view {i}: {p:.2} dB, barely better than the centre copied ({copied:.2})"
+        );
+    }
+    assert_depth_parallax(&s, &synth, 5, 40, "cubes under synth");
+}
+
+/// K = 2: the two outer views rendered, the middle three warped from both.
+#[test]
+fn hybrid_warps_between_rendered_views() {
+    require_display();
+    let dir = temp_dir("synth_hybrid2");
+    let (exact, _) = quilt_in(&dir, "cubes", "5x1", "exact", &[]);
+    let (hybrid, log) = quilt_in(&dir, "cubes", "5x1", "hybrid:2", &[]);
+    assert!(log.contains("synthesis: 2 of 5 views rendered"), "{log}");
+    let psnr = tile_psnr(&read_png(&exact), &read_png(&hybrid), 5, 1);
+    eprintln!("hybrid:2 against exact, per view: {psnr:.2?}");
+    assert!(psnr[0].is_infinite() && psnr[4].is_infinite(), "{psnr:?}");
+    for p in &psnr[1..4] {
+        assert!(*p >= 25.0, "{psnr:.2?}");
+    }
+}
+
+/// The HUD (drawn with glOrtho after the scene) is drawn in every view, never warped: its
+/// pixels are the same in all tiles, and the same as exact's.
+#[test]
+fn hud_stays_in_place_in_every_synthesised_view() {
+    require_display();
+    let dir = temp_dir("synth_hud");
+    let (exact, _) = quilt_in(&dir, "legacy", "5x1", "exact", &[]);
+    let (synth, _) = quilt_in(&dir, "legacy", "5x1", "synth", &[]);
+    let (e, s) = (read_png(&exact), read_png(&synth));
+    let centre = tile(&e, 5, 1, 2);
+    // The white square legacy draws 10..40 px from the bottom-right corner (GL coordinates),
+    // inset by 2 px; image rows run top-down.
+    let (w, h) = (centre.width, centre.height);
+    let region = |img: &Image| -> Vec<u8> {
+        let mut v = Vec::new();
+        for y in (h - 38)..(h - 12) {
+            for x in (w - 38)..(w - 12) {
+                let i = ((y * w + x) * 3) as usize;
+                v.extend_from_slice(&img.rgb[i..i + 3]);
+            }
+        }
+        v
+    };
+    let want = region(&centre);
+    assert!(
+        want.chunks(3).all(|p| p == [255, 255, 255]),
+        "the HUD square is not where expected"
+    );
+    for i in 0..5 {
+        assert_eq!(region(&tile(&s, 5, 1, i)), want, "view {i}: the HUD moved or changed");
+    }
+}
+
+/// `--measure-error` renders exact on the chosen frame and logs the synthesised views' PSNR;
+/// the figure agrees with an exact run's quilt compared outside the layer.
+#[test]
+fn measured_error_is_logged_and_agrees_with_exact() {
+    require_display();
+    let dir = temp_dir("synth_measure");
+    let (exact, _) = quilt_in(&dir, "cubes", "5x1", "exact", &[]);
+    let (synth, log) = quilt_in(&dir, "cubes", "5x1", "synth", &["--measure-error", "3"]);
+    let line = log
+        .lines()
+        .find(|l| l.contains("measure-error: frame 3:"))
+        .unwrap_or_else(|| panic!("no measure-error line:\n{log}"));
+    let mean: f64 = line
+        .split("PSNR mean ")
+        .nth(1)
+        .and_then(|r| r.split(' ').next()?.parse().ok())
+        .unwrap_or_else(|| panic!("{line}"));
+    let psnr = tile_psnr(&read_png(&exact), &read_png(&synth), 5, 1);
+    let outside: f64 = [0, 1, 3, 4].iter().map(|&i| psnr[i]).sum::<f64>() / 4.0;
+    eprintln!("{line}\noutside the layer: {outside:.2} dB");
+    assert!((mean - outside).abs() < 0.5, "layer {mean} dB, outside {outside:.2} dB");
+}
+
+/// Where the synthesis passes cannot run (an ES context), the layer says so once and renders
+/// every view exactly.
+#[test]
+fn contexts_without_compute_fall_back_to_exact() {
+    require_display();
+    let dir = temp_dir("synth_es");
+    let dump = dir.join("d");
+    let mut options = vec![
+        "--log", "info", "--output", "quilt", "--quilt", "3x1", "--mode", "synth",
+    ];
+    options.extend(dump_and_exit_at(&dump, "3"));
+    let args = ["--backend", "egl", "--size", SIZE, "--frames", "3"];
+    let out = under_layer(&options, app("gles"), &args, &[]);
+    assert_success(&out, "gles --mode synth");
+    let err = stderr(&out);
+    let warns: Vec<&str> = err.lines().filter(|l| l.contains("needs desktop OpenGL 4.3")).collect();
+    assert_eq!(warns.len(), 1, "{err}");
+    assert!(has_content(&dump.join("f000003_qs3x1a1.3333.png")));
+}
