@@ -32,15 +32,12 @@ pub fn mode(v: &str) -> Result<Mode, String> {
     match v.trim() {
         "exact" => Ok(Mode::Exact),
         "synth" => Ok(Mode::Synth),
-        "synth:pixel" => Ok(Mode::SynthPixel),
-        "auto" => Err(format!(
-            "`{v}`: the frame-budget mode is not available in this build yet; use exact, synth or hybrid:K"
+        "synth:pixel" | "auto" => Err(format!(
+            "`{v}`: not available in this build yet; use exact, synth or hybrid:K"
         )),
         m => match m.strip_prefix("hybrid:").map(str::parse::<u32>) {
             Some(Ok(k)) if (1..=MAX_VIEWS).contains(&k) => Ok(Mode::Hybrid(k)),
-            _ => Err(format!(
-                "`{v}`: expected exact|synth|synth:pixel|hybrid:K (K ≥ 1 rendered views)"
-            )),
+            _ => Err(format!("`{v}`: expected exact|synth|hybrid:K (K ≥ 1 rendered views)")),
         },
     }
 }
@@ -183,7 +180,7 @@ mod tests {
     fn modes() {
         assert_eq!(mode("exact"), Ok(Mode::Exact));
         assert_eq!(mode("hybrid:3"), Ok(Mode::Hybrid(3)));
-        assert_eq!(mode("synth:pixel"), Ok(Mode::SynthPixel));
+        assert!(mode("synth:pixel").unwrap_err().contains("not available"));
         assert!(mode("auto").unwrap_err().contains("not available"));
         assert!(mode("hybrid:0").unwrap_err().contains("expected"));
         assert!(mode("hybrid:x").unwrap_err().contains("expected"));

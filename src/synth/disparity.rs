@@ -98,14 +98,8 @@ mod tests {
 
     /// Worst disparity error (outermost view, px in a 420-px tile, s = 0.1) of the f32 shader
     /// arithmetic against f64 on the same stored depth, over distances from near to far.
-    pub fn worst_error_px(depth: DepthRange, c: f64) -> f64 {
+    pub fn worst_error_px(depth: DepthRange, c: f64, (near, far): (f64, f64)) -> f64 {
         let m = ParallaxModel::new(depth, c).unwrap();
-        let near = depth.near();
-        let far = if depth.far().is_finite() {
-            depth.far()
-        } else {
-            near * 1e12
-        };
         let mut worst: f64 = 0.0;
         for k in 0..=400 {
             let w = near * (far / near).powf(k as f64 / 400.0);
@@ -146,14 +140,22 @@ mod tests {
     /// The numbers of the README's precision table (warp column).
     #[test]
     fn f32_disparity_matches_f64_at_the_extremes() {
+        // Reversed-Z with an infinite far plane, in [-1, 1] depth: z_ndc = -1 + 2n/w.
+        let reversed = DepthRange { a: 1.0, b: 0.02 };
         let cases = [
-            ("near 0.1, far 100", perspective(0.1, 100.0), 5.0),
-            ("near 1e-4, far 1e7", perspective(1e-4, 1e7), 10.0),
-            ("near 1e-4, infinite far", perspective(1e-4, f64::INFINITY), 10.0),
-            ("near 1, far 1e7, c = 1e6", perspective(1.0, 1e7), 1e6),
+            ("near 0.1, far 100", perspective(0.1, 100.0), 5.0, (0.1, 100.0)),
+            ("near 1e-4, far 1e7", perspective(1e-4, 1e7), 10.0, (1e-4, 1e7)),
+            (
+                "near 1e-4, infinite far",
+                perspective(1e-4, f64::INFINITY),
+                10.0,
+                (1e-4, 1e8),
+            ),
+            ("near 1, far 1e7, c = 1e6", perspective(1.0, 1e7), 1e6, (1.0, 1e7)),
+            ("reversed-Z, near 0.01, infinite far", reversed, 10.0, (0.01, 1e6)),
         ];
-        for (name, depth, c) in cases {
-            let e = worst_error_px(depth, c);
+        for (name, depth, c, range) in cases {
+            let e = worst_error_px(depth, c, range);
             eprintln!("warp disparity error, {name}: {e:.2e} px");
             assert!(e < 0.01, "{name}: {e} px");
         }
