@@ -60,7 +60,8 @@ bool flat_enough(vec4 range, float cell)
 {
     // NaN ranges compare false: such cells split down to pixels.
     float spread = (range.y - range.x) * u_scale;
-    float bend = range.z * u_scale * cell * cell / 8.0;
+    // A step shows as one second difference the size of the jump, whatever the cell size.
+    float bend = range.z * u_scale * max(cell * cell / 8.0, 1.0);
     return spread <= u_threshold || bend <= u_threshold;
 }
 
