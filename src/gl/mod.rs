@@ -23,6 +23,7 @@ pub mod glx {
 
 pub mod depth_copy;
 pub mod egl;
+pub mod format;
 pub mod guard;
 mod info;
 pub use info::GlInfo;
