@@ -211,8 +211,29 @@ impl DepthCopy {
         Ok(rgba.chunks_exact(4).map(unpack).collect())
     }
 
+    /// Our depth texture and where in it the last copy lies (x, y, w, h).
+    pub fn copied(&self) -> (u32, [i32; 4]) {
+        (self.texture, self.copied_rect())
+    }
+
     fn copied_rect(&self) -> [i32; 4] {
         [self.origin.0, self.origin.1, self.copied.0, self.copied.1]
+    }
+
+    /// Deletes every object of ours (for a copy made for one use).
+    pub fn delete(&self, gl: &Gl) {
+        let program = self.pack.program.as_ref().and_then(|p| p.as_ref().ok().copied());
+        // SAFETY: deleting only objects this copy created; zero names are ignored by GL.
+        unsafe {
+            gl.DeleteFramebuffers(2, [self.fbo, self.pack.fbo].as_ptr());
+            gl.DeleteTextures(2, [self.texture, self.pack.color].as_ptr());
+            if self.pack.vao != 0 {
+                gl.DeleteVertexArrays(1, &self.pack.vao);
+            }
+            if let Some(p) = program {
+                gl.DeleteProgram(p);
+            }
+        }
     }
 
     /// Textures and programs of ours, which the share group holds.

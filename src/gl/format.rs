@@ -70,18 +70,28 @@ pub fn texture_components(gl: &Gl, name: u32) -> Components {
 }
 
 /// Renderbuffer `name` (which exists). Renderbuffers have no type query: their unsized
-/// formats are all normalised, and sized ones are taken as given.
+/// formats are all normalised, and the only float depth formats are sized.
 pub fn renderbuffer_components(gl: &Gl, name: u32) -> Components {
     let mut c = Components::default();
+    let mut format = 0;
     // SAFETY: single-integer queries on an existing renderbuffer.
     unsafe {
         for (v, p) in c.bits.iter_mut().zip(RENDERBUFFER_SIZES) {
             gl.GetNamedRenderbufferParameteriv(name, p, v);
         }
+        gl.GetNamedRenderbufferParameteriv(name, RENDERBUFFER_INTERNAL_FORMAT, &mut format);
     }
     c.color_type = UNSIGNED_NORMALIZED;
-    c.depth_type = UNSIGNED_NORMALIZED;
+    c.depth_type = match format as GLenum {
+        DEPTH_COMPONENT32F | DEPTH32F_STENCIL8 => FLOAT,
+        _ => UNSIGNED_NORMALIZED,
+    };
     c
+}
+
+/// Depth bits, float depth, stencil bits: what depth and stencil blits compare.
+pub fn depth_stencil(c: Components) -> (i32, bool, i32) {
+    (c.bits[4], c.depth_type == FLOAT, c.bits[5])
 }
 
 /// The sized format for an image that was given `requested` and has `components`: the

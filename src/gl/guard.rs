@@ -20,6 +20,7 @@ enum Saved {
     Renderbuffer(u32),
     ColorMask([u8; 4]),
     DepthMask(u8),
+    DepthFunc(u32),
     PolygonMode(i32),
     MatrixMode(i32),
 }
@@ -125,6 +126,12 @@ impl<'a> StateGuard<'a> {
         self.caps(&caps).viewport()
     }
 
+    /// The depth test's function (a pass writing depth sets `GL_ALWAYS`).
+    pub fn depth_func(mut self) -> Self {
+        self.saved.push(Saved::DepthFunc(get_i(self.gl, DEPTH_FUNC) as u32));
+        self
+    }
+
     pub fn matrix_mode(mut self) -> Self {
         self.saved.push(Saved::MatrixMode(get_i(self.gl, MATRIX_MODE)));
         self
@@ -151,6 +158,7 @@ impl<'a> StateGuard<'a> {
                 Saved::Renderbuffer(r) => gl.BindRenderbuffer(RENDERBUFFER, r),
                 Saved::ColorMask(m) => gl.ColorMask(m[0], m[1], m[2], m[3]),
                 Saved::DepthMask(d) => gl.DepthMask(d),
+                Saved::DepthFunc(f) => gl.DepthFunc(f),
                 Saved::PolygonMode(m) => gl.PolygonMode(FRONT_AND_BACK, m as u32),
                 Saved::MatrixMode(m) => gl.MatrixMode(m as u32),
             }

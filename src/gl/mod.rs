@@ -22,6 +22,7 @@ pub mod glx {
 }
 
 pub mod depth_copy;
+pub mod depth_write;
 pub mod egl;
 pub mod format;
 pub mod guard;

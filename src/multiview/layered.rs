@@ -127,6 +127,28 @@ fn levels(gl: &Gl, app: AppImage, s: Storage) -> i32 {
     }
 }
 
+/// Depth and stencil copies between the app's object and our array are blits, which need
+/// the same depth and stencil bits at both ends (colour blits convert). The array has the
+/// app's sized format, so they match; should a driver store the two differently anyway, the
+/// framebuffer stays single-view instead of every copy being an error.
+fn same_depth_stencil(gl: &Gl, app: AppImage, array: u32, buffers: GLbitfield) -> Result<(), String> {
+    if buffers == COLOR_BUFFER_BIT {
+        return Ok(());
+    }
+    let theirs = if app.renderbuffer {
+        format::renderbuffer_components(gl, app.name)
+    } else {
+        format::texture_components(gl, app.name)
+    };
+    let [theirs, ours] = [theirs, format::texture_components(gl, array)].map(format::depth_stencil);
+    if theirs != ours {
+        return Err(format!(
+            "{app:?}: layers stored with (depth bits, float, stencil bits) {ours:?}, the app's object {theirs:?}"
+        ));
+    }
+    Ok(())
+}
+
 /// The framebuffer attachment point for an image holding `buffers`.
 fn point(buffers: GLbitfield) -> GLenum {
     match buffers {
@@ -163,6 +185,11 @@ impl LayeredImage {
                 gl.CreateTextures(TEXTURE_2D_ARRAY, 1, &mut array);
                 gl.TextureStorage3D(array, levels, format, s.width, s.height, n as i32);
             }
+        }
+        if let Err(e) = same_depth_stencil(gl, app, array, buffers_at(point)) {
+            // SAFETY: our own array, not yet shared with anything.
+            unsafe { gl.DeleteTextures(1, &array) };
+            return Err(e);
         }
         let layer_views = if app.renderbuffer || s.samples > 0 {
             Arc::from([])
