@@ -236,6 +236,12 @@ impl DepthCopy {
         }
     }
 
+    /// How many framebuffers and vertex arrays of ours (per context) exist.
+    pub fn context_objects(&self) -> (usize, usize) {
+        let fbos = [self.fbo, self.pack.fbo].iter().filter(|&&f| f != 0).count();
+        (fbos, usize::from(self.pack.vao != 0))
+    }
+
     /// Textures and programs of ours, which the share group holds.
     pub fn shared_objects(&self) -> ([u32; 2], Option<u32>) {
         let program = self.pack.program.as_ref().and_then(|p| p.as_ref().ok().copied());
