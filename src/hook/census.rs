@@ -11,7 +11,7 @@ pub const EVERY: u64 = 100;
 
 /// At the boundary of frame `frame`, for the context presenting it.
 pub fn log_if_due(frame: u64, layer: &Layer) {
-    if frame % EVERY != 0 || !log::enabled(Level::Info) {
+    if !frame.is_multiple_of(EVERY) || !log::enabled(Level::Info) {
         return;
     }
     let shared = layer.shared_objects();
