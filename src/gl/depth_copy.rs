@@ -44,20 +44,6 @@ struct PackPass {
     program: Option<Result<u32, String>>,
 }
 
-/// The sized format of a depth attachment with `bits` depth bits (`float` or normalised) and
-/// `stencil` stencil bits in the same image.
-pub fn sized_depth_format(bits: i32, float: bool, stencil: i32) -> Option<GLenum> {
-    Some(match (bits, float, stencil > 0) {
-        (16, false, false) => DEPTH_COMPONENT16,
-        (24, false, false) => DEPTH_COMPONENT24,
-        (24, false, true) => DEPTH24_STENCIL8,
-        (32, false, false) => DEPTH_COMPONENT32,
-        (32, true, false) => DEPTH_COMPONENT32F,
-        (32, true, true) => DEPTH32F_STENCIL8,
-        _ => return None,
-    })
-}
-
 fn attachment_iv(gl: &Gl, point: GLenum, pname: GLenum) -> i32 {
     let mut v = 0;
     // SAFETY: a single-integer query on the bound read framebuffer.
@@ -94,7 +80,7 @@ pub fn describe(gl: &Gl, info: GlInfo, fbo: u32) -> Result<SourceFormat, String>
     let bits = attachment_iv(gl, DEPTH_ATTACHMENT, FRAMEBUFFER_ATTACHMENT_DEPTH_SIZE);
     let float = attachment_iv(gl, DEPTH_ATTACHMENT, FRAMEBUFFER_ATTACHMENT_COMPONENT_TYPE) as GLenum == FLOAT;
     let stencil = attachment_iv(gl, DEPTH_ATTACHMENT, FRAMEBUFFER_ATTACHMENT_STENCIL_SIZE);
-    let format = sized_depth_format(bits, float, stencil)
+    let format = super::format::sized_depth_format(bits, float, stencil)
         .ok_or_else(|| format!("its depth format ({bits} bits) is not copied"))?;
     // SAFETY: a completeness query on the bound framebuffer.
     if unsafe { gl.CheckFramebufferStatus(READ_FRAMEBUFFER) } != FRAMEBUFFER_COMPLETE {
@@ -225,8 +211,35 @@ impl DepthCopy {
         Ok(rgba.chunks_exact(4).map(unpack).collect())
     }
 
+    /// Our depth texture and where in it the last copy lies (x, y, w, h).
+    pub fn copied(&self) -> (u32, [i32; 4]) {
+        (self.texture, self.copied_rect())
+    }
+
     fn copied_rect(&self) -> [i32; 4] {
         [self.origin.0, self.origin.1, self.copied.0, self.copied.1]
+    }
+
+    /// Deletes every object of ours (for a copy made for one use).
+    pub fn delete(&self, gl: &Gl) {
+        let program = self.pack.program.as_ref().and_then(|p| p.as_ref().ok().copied());
+        // SAFETY: deleting only objects this copy created; zero names are ignored by GL.
+        unsafe {
+            gl.DeleteFramebuffers(2, [self.fbo, self.pack.fbo].as_ptr());
+            gl.DeleteTextures(2, [self.texture, self.pack.color].as_ptr());
+            if self.pack.vao != 0 {
+                gl.DeleteVertexArrays(1, &self.pack.vao);
+            }
+            if let Some(p) = program {
+                gl.DeleteProgram(p);
+            }
+        }
+    }
+
+    /// How many framebuffers and vertex arrays of ours (per context) exist.
+    pub fn context_objects(&self) -> (usize, usize) {
+        let fbos = [self.fbo, self.pack.fbo].iter().filter(|&&f| f != 0).count();
+        (fbos, usize::from(self.pack.vao != 0))
     }
 
     /// Textures and programs of ours, which the share group holds.
@@ -280,17 +293,6 @@ impl PackPass {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn copies_take_the_sources_format() {
-        assert_eq!(sized_depth_format(24, false, 8), Some(DEPTH24_STENCIL8));
-        assert_eq!(sized_depth_format(24, false, 0), Some(DEPTH_COMPONENT24));
-        assert_eq!(sized_depth_format(32, true, 0), Some(DEPTH_COMPONENT32F));
-        assert_eq!(sized_depth_format(32, true, 8), Some(DEPTH32F_STENCIL8));
-        assert_eq!(sized_depth_format(32, false, 0), Some(DEPTH_COMPONENT32));
-        assert_eq!(sized_depth_format(16, false, 0), Some(DEPTH_COMPONENT16));
-        assert_eq!(sized_depth_format(8, false, 0), None);
-    }
 
     #[test]
     fn packed_depth_unpacks_to_24_bits() {

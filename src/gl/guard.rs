@@ -145,6 +145,7 @@ impl<'a> StateGuard<'a> {
         self
     }
 
+    /// The depth test's function (a pass writing depth sets `GL_ALWAYS`).
     pub fn depth_func(mut self) -> Self {
         self.saved.push(Saved::DepthFunc(get_i(self.gl, DEPTH_FUNC) as u32));
         self
@@ -228,9 +229,9 @@ impl<'a> StateGuard<'a> {
                 Saved::Renderbuffer(r) => gl.BindRenderbuffer(RENDERBUFFER, r),
                 Saved::ColorMask(m) => gl.ColorMask(m[0], m[1], m[2], m[3]),
                 Saved::DepthMask(d) => gl.DepthMask(d),
+                Saved::DepthFunc(f) => gl.DepthFunc(f),
                 Saved::PolygonMode(m) => gl.PolygonMode(FRONT_AND_BACK, m as u32),
                 Saved::MatrixMode(m) => gl.MatrixMode(m as u32),
-                Saved::DepthFunc(f) => gl.DepthFunc(f),
                 Saved::DepthRange(r) => gl.DepthRange(r[0], r[1]),
                 Saved::Sampler(unit, name) => gl.BindSampler(unit, name),
                 Saved::Texture(unit, target, name) => {

@@ -22,7 +22,9 @@ pub mod glx {
 }
 
 pub mod depth_copy;
+pub mod depth_write;
 pub mod egl;
+pub mod format;
 pub mod guard;
 mod info;
 pub use info::GlInfo;

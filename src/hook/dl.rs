@@ -12,7 +12,18 @@
 use crate::real::{HOOKS, HookApi, dl};
 use core::ffi::{CStr, c_char, c_int, c_void};
 
-/// Our hook for `name` when the real function exists behind `handle`, else null (forward).
+/// What `dlsym` answers instead of forwarding: "no such symbol".
+const ABSENT: *const c_void = core::ptr::without_provenance(1);
+
+/// Our hook for `name` when the real function exists behind `handle`; `ABSENT` for a window
+/// system function of ours that exists nowhere else; else null (forward).
+///
+/// Forwarding a pseudo-handle lookup for a name we export cannot say "absent": the real
+/// `dlsym(RTLD_NEXT)` of a program (preloaded libraries come right after it) or
+/// `dlsym(RTLD_DEFAULT)` finds our own export. A program probing for `eglGetProcAddress`
+/// without libEGL loaded (glretrace, through waffle) then called a hook with nothing behind
+/// it, which logged an error; it must get null, as it does without the layer. GL entry
+/// points keep the hook: each context resolves its own through its platform's loader.
 ///
 /// # Safety
 /// Called only by `dlsym` below, with its caller's arguments (dlsym's contract: `handle` a
@@ -27,9 +38,20 @@ unsafe extern "C" fn decide_dlsym(handle: *mut c_void, name: *const c_char) -> *
     let Some(id) = crate::real::find(name) else {
         return core::ptr::null();
     };
+    let ours = super::ADDRS[id].0;
     std::panic::catch_unwind(|| {
         // SAFETY: the app's own handle, valid by dlsym's contract.
-        let real = unsafe { dl::real_dlsym(handle, name) };
+        let mut real = unsafe { dl::real_dlsym(handle, name) };
+        let pseudo = handle == libc::RTLD_NEXT || handle == libc::RTLD_DEFAULT;
+        if real == ours {
+            real = core::ptr::null();
+        }
+        if real.is_null() && pseudo && HOOKS[id].api != HookApi::Gl {
+            real = crate::real::global(id);
+            if real.is_null() {
+                return ABSENT;
+            }
+        }
         if real.is_null() {
             return core::ptr::null();
         }
@@ -40,7 +62,7 @@ unsafe extern "C" fn decide_dlsym(handle: *mut c_void, name: *const c_char) -> *
             "dlsym({handle:p}, {}) -> hook",
             HOOKS[id].name.to_string_lossy()
         ));
-        super::ADDRS[id].0
+        ours
     })
     .unwrap_or(core::ptr::null())
 }
@@ -88,6 +110,10 @@ pub unsafe extern "C" fn dlsym(handle: *mut c_void, name: *const c_char) -> *mut
         "pop rdi",
         "test rax, rax",
         "jz 2f",
+        "cmp rax, 1",
+        "jne 3f",
+        "xor eax, eax",
+        "3:",
         "ret",
         "2:",
         // Never 0: `decide_dlsym` aborted if the real dlsym could not be found.

@@ -2,8 +2,8 @@
 //! swap), in order: number the frame, delete what destroyed contexts left, time it; compose
 //! the quilt into the window (dumping the quilt first and the weave after); dump what is
 //! presented; present (the real swap); then set the next frame up (auto-convergence, a quilt
-//! resized with the window) and honour `--exit-after`. Frames are numbered from 1 per
-//! process.
+//! resized with the window), count the layer's objects every 100 frames (`census`) and
+//! honour `--exit-after`. Frames are numbered from 1 per process.
 
 use crate::config::Settings;
 use crate::log::{self, Level};
@@ -66,6 +66,7 @@ fn multiview_frame(frame: u64, surface: usize, settings: &Settings) {
         }
         crate::multiview::update_convergence(gl, app, mv);
         crate::multiview::framebuffer::ensure_target(gl, app, mv, window);
+        super::census::log_if_due(frame, layer);
     });
 }
 

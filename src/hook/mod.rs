@@ -10,6 +10,7 @@
 use core::ffi::c_void;
 use std::sync::atomic::{AtomicBool, Ordering};
 
+pub mod census;
 pub mod dl;
 pub mod frame;
 pub(crate) mod handlers;

@@ -41,6 +41,11 @@ impl SceneDepth {
     pub fn shared_objects(&self) -> ([u32; 2], Option<u32>) {
         self.copy.shared_objects()
     }
+
+    /// Our framebuffers and vertex arrays (per context).
+    pub fn context_objects(&self) -> (usize, usize) {
+        self.copy.context_objects()
+    }
 }
 
 /// Copies the scene target's depth now, before anything changes it (see `scene`). Called

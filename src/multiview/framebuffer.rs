@@ -78,12 +78,54 @@ pub fn hand_back(gl: &Gl, mv: &Multiview) {
             gl.ReadBuffer(COLOR_ATTACHMENT0);
             let filter = if (w, h) == (ww, wh) { NEAREST } else { LINEAR };
             gl.BlitFramebuffer(x, y, x + w, y + h, 0, 0, ww, wh, COLOR_BUFFER_BIT, filter);
-            let ds = DEPTH_BUFFER_BIT | STENCIL_BUFFER_BIT;
-            gl.BlitFramebuffer(x, y, x + w, y + h, 0, 0, ww, wh, ds, NEAREST);
         }
+    }
+    if let Some(t) = mv.target.as_ref() {
+        let window = (t.layout.window_w as i32, t.layout.window_h as i32);
+        hand_back_depth(gl, mv.info, t, t.layout.tile_rect(centre), window);
     }
     for image in mv.images.values() {
         image.copy_back(gl, mv.info, centre);
+    }
+}
+
+/// The centre tile's depth and stencil into the window (`hand_back`, under its guard: quilt
+/// bound for reading, the window for drawing, no scissor): a blit where the two formats
+/// allow one, else the depth through a pass and the stencil left as it is.
+fn hand_back_depth(gl: &Gl, info: crate::gl::GlInfo, t: &QuiltTarget, tile: [i32; 4], (ww, wh): (i32, i32)) {
+    use crate::gl::depth_write;
+    let [x, y, w, h] = tile;
+    let formats = (
+        depth_write::depth_format(gl, info, t.fbo),
+        depth_write::depth_format(gl, info, 0),
+    );
+    let (Some(quilt), Some(window)) = formats else {
+        return;
+    };
+    if depth_write::blittable(quilt, window) {
+        let ds = DEPTH_BUFFER_BIT | STENCIL_BUFFER_BIT;
+        // SAFETY: a blit between formats that allow it, in the caller's bindings.
+        unsafe { gl.BlitFramebuffer(x, y, x + w, y + h, 0, 0, ww, wh, ds, NEAREST) };
+        return;
+    }
+    crate::log::info(format_args!(
+        "hand-back: the window's depth ({window:?}) is not the quilt's ({quilt:?}): depth copied by a pass, stencil not handed back"
+    ));
+    let copied = crate::gl::depth_copy::describe(gl, info, t.fbo).and_then(|source| {
+        let mut copy = crate::gl::depth_copy::DepthCopy::default();
+        let restore = crate::gl::depth_copy::Restore {
+            draw_fbo: 0,
+            read_fbo: t.fbo,
+            scissor: false,
+        };
+        copy.take(gl, info, (t.fbo, source), tile, restore);
+        let (texture, rect) = copy.copied();
+        let drawn = depth_write::draw(gl, info, texture, rect, 0, [0, 0, ww, wh]);
+        copy.delete(gl);
+        drawn
+    });
+    if let Err(e) = copied {
+        crate::log::info(format_args!("hand-back: window depth not written: {e}"));
     }
 }
 

@@ -14,6 +14,7 @@
 //! app's later changes are mirrored (`mirror`).
 
 use crate::gl::GlInfo;
+use crate::gl::format;
 use crate::gl::types::GLbitfield;
 use crate::gl::*;
 use std::sync::Arc;
@@ -34,7 +35,8 @@ impl AppImage {
     }
 }
 
-/// The storage of an object's level 0: an image is kept while it stays the same.
+/// The storage of an object's level 0 (`format` sized, as GL chose it): an image is kept
+/// while it stays the same.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub struct Storage {
     pub format: GLenum,
@@ -54,13 +56,15 @@ pub struct LayeredImage {
     pub layer_views: Arc<[u32]>,
 }
 
-/// The storage of `app` now. GL_TEXTURE_TARGET is not queryable on every driver (Mesa 22.3
-/// raises an error), so a texture's target comes from the app's own binds (`target`).
+/// The storage of `app` now, its format sized as GL chose it (`gl::format`; immutable
+/// storage needs a sized one, and a guess can differ from the app's). GL_TEXTURE_TARGET is
+/// not queryable on every driver (Mesa 22.3 raises an error), so a texture's target comes
+/// from the app's own binds (`target`).
 pub fn storage(gl: &Gl, app: AppImage, target: GLenum) -> Result<Storage, String> {
     let name = app.name;
     let mut v = [0i32; 4];
     // SAFETY: existence checks, then single-integer queries on the app's object names.
-    unsafe {
+    let components = unsafe {
         if app.renderbuffer {
             if gl.IsRenderbuffer(name) == 0 {
                 return Err(format!("renderbuffer {name} does not exist"));
@@ -74,6 +78,7 @@ pub fn storage(gl: &Gl, app: AppImage, target: GLenum) -> Result<Storage, String
             for (v, p) in v.iter_mut().zip(pnames) {
                 gl.GetNamedRenderbufferParameteriv(name, p, v);
             }
+            format::renderbuffer_components(gl, name)
         } else {
             if target != TEXTURE_2D && target != TEXTURE_2D_MULTISAMPLE {
                 return Err(format!("texture {name}: target {target:#x} is not shadowed (2D only)"));
@@ -85,29 +90,14 @@ pub fn storage(gl: &Gl, app: AppImage, target: GLenum) -> Result<Storage, String
             for (v, p) in v.iter_mut().zip(pnames) {
                 gl.GetTextureLevelParameteriv(name, 0, p, v);
             }
+            format::texture_components(gl, name)
         }
-    }
+    };
     Ok(Storage {
-        format: v[0] as GLenum,
+        format: format::sized(v[0] as GLenum, components)?,
         width: v[1],
         height: v[2],
         samples: v[3],
-    })
-}
-
-/// Immutable storage needs a sized format; `glTexImage2D` keeps the unsized one it was given.
-fn sized(format: GLenum) -> Result<GLenum, String> {
-    Ok(match format {
-        RGBA => RGBA8,
-        RGB => RGB8,
-        RG => RG8,
-        RED => R8,
-        DEPTH_COMPONENT => DEPTH_COMPONENT24,
-        DEPTH_STENCIL => DEPTH24_STENCIL8,
-        ALPHA | LUMINANCE | LUMINANCE_ALPHA | INTENSITY => {
-            return Err(format!("format {format:#x} has no sized equivalent"));
-        }
-        sized => sized,
     })
 }
 
@@ -137,6 +127,28 @@ fn levels(gl: &Gl, app: AppImage, s: Storage) -> i32 {
     }
 }
 
+/// Depth and stencil copies between the app's object and our array are blits, which need
+/// the same depth and stencil bits at both ends (colour blits convert). The array has the
+/// app's sized format, so they match; should a driver store the two differently anyway, the
+/// framebuffer stays single-view instead of every copy being an error.
+fn same_depth_stencil(gl: &Gl, app: AppImage, array: u32, buffers: GLbitfield) -> Result<(), String> {
+    if buffers == COLOR_BUFFER_BIT {
+        return Ok(());
+    }
+    let theirs = if app.renderbuffer {
+        format::renderbuffer_components(gl, app.name)
+    } else {
+        format::texture_components(gl, app.name)
+    };
+    let [theirs, ours] = [theirs, format::texture_components(gl, array)].map(format::depth_stencil);
+    if theirs != ours {
+        return Err(format!(
+            "{app:?}: layers stored with (depth bits, float, stencil bits) {ours:?}, the app's object {theirs:?}"
+        ));
+    }
+    Ok(())
+}
+
 /// The framebuffer attachment point for an image holding `buffers`.
 fn point(buffers: GLbitfield) -> GLenum {
     match buffers {
@@ -161,7 +173,7 @@ impl LayeredImage {
     /// A new image of `n` layers for `app`, attached at `point`, each layer a copy of the
     /// app's content.
     pub fn create(gl: &Gl, info: GlInfo, app: AppImage, s: Storage, point: GLenum, n: u32) -> Result<Self, String> {
-        let format = sized(s.format)?;
+        let format = s.format;
         let levels = levels(gl, app, s);
         let mut array = 0;
         // SAFETY: creating our own immutable array.
@@ -173,6 +185,11 @@ impl LayeredImage {
                 gl.CreateTextures(TEXTURE_2D_ARRAY, 1, &mut array);
                 gl.TextureStorage3D(array, levels, format, s.width, s.height, n as i32);
             }
+        }
+        if let Err(e) = same_depth_stencil(gl, app, array, buffers_at(point)) {
+            // SAFETY: our own array, not yet shared with anything.
+            unsafe { gl.DeleteTextures(1, &array) };
+            return Err(e);
         }
         let layer_views = if app.renderbuffer || s.samples > 0 {
             Arc::from([])

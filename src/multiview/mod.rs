@@ -49,6 +49,24 @@ use target::QuiltTarget;
 
 pub use convergence::update_convergence;
 
+/// Counts of the objects of ours that die with their context (framebuffers and vertex arrays
+/// are not shared); the shared ones are listed by `shared_objects`.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ContextObjects {
+    pub framebuffers: usize,
+    pub vertex_arrays: usize,
+}
+
+impl std::ops::Add for ContextObjects {
+    type Output = ContextObjects;
+    fn add(self, o: ContextObjects) -> ContextObjects {
+        ContextObjects {
+            framebuffers: self.framebuffers + o.framebuffers,
+            vertex_arrays: self.vertex_arrays + o.vertex_arrays,
+        }
+    }
+}
+
 pub struct Multiview {
     pub info: GlInfo,
     pub settings: ViewSettings,
@@ -153,6 +171,17 @@ impl Multiview {
         }
         o.lists.push(self.immediate_list);
         o.without_zeros()
+    }
+
+    /// How many objects of ours live in this context only: the quilt's framebuffer, the
+    /// shadows' view framebuffers, the depth copy's.
+    pub fn context_objects(&self) -> ContextObjects {
+        let (copy_fbos, copy_vaos) = self.scene.context_objects();
+        let views: usize = self.shadows.values().map(|s| s.views.len()).sum();
+        ContextObjects {
+            framebuffers: usize::from(self.target.is_some()) + views + copy_fbos,
+            vertex_arrays: copy_vaos,
+        }
     }
 
     /// The quilt's framebuffer name while it stands in for framebuffer 0.

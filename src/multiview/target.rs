@@ -15,22 +15,33 @@ pub struct QuiltTarget {
     pub layout: QuiltLayout,
 }
 
-/// One size query on the real default framebuffer (bound for draw by the caller's guard).
-fn default_size(gl: &Gl, attachment: GLenum, pname: GLenum) -> i32 {
-    let mut bits = 0;
-    // SAFETY: one integer out.
+/// One size query on the real default framebuffer (bound for draw by the caller's guard);
+/// `None` when the window has no such buffer, whose sizes are not queryable
+/// (GL_INVALID_OPERATION: most windows have no stencil, single-buffered ones no back buffer).
+fn default_size(gl: &Gl, attachment: GLenum, pname: GLenum) -> Option<i32> {
+    let (mut kind, mut bits) = (0, 0);
+    // SAFETY: one integer out per query.
     unsafe {
         gl.BindFramebuffer(DRAW_FRAMEBUFFER, 0);
+        gl.GetFramebufferAttachmentParameteriv(
+            DRAW_FRAMEBUFFER,
+            attachment,
+            FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE,
+            &mut kind,
+        );
+        if kind as GLenum == NONE {
+            return None;
+        }
         gl.GetFramebufferAttachmentParameteriv(DRAW_FRAMEBUFFER, attachment, pname, &mut bits);
     }
-    bits
+    Some(bits)
 }
 
 /// Depth/stencil storage like the window's: a 32-bit window depth buffer resolves close
 /// surfaces differently from a 24-bit one, so the quilt must not be coarser.
 fn depth_format(gl: &Gl, info: GlInfo) -> (GLenum, GLenum) {
-    let d = default_size(gl, DEPTH, FRAMEBUFFER_ATTACHMENT_DEPTH_SIZE);
-    let s = default_size(gl, STENCIL, FRAMEBUFFER_ATTACHMENT_STENCIL_SIZE);
+    let d = default_size(gl, DEPTH, FRAMEBUFFER_ATTACHMENT_DEPTH_SIZE).unwrap_or(0);
+    let s = default_size(gl, STENCIL, FRAMEBUFFER_ATTACHMENT_STENCIL_SIZE).unwrap_or(0);
     match (d, s > 0) {
         // ES has no 32-bit normalised depth renderbuffers.
         (32, false) if info.es => (DEPTH_COMPONENT32F, DEPTH_ATTACHMENT),
@@ -41,22 +52,16 @@ fn depth_format(gl: &Gl, info: GlInfo) -> (GLenum, GLenum) {
     }
 }
 
-/// Alpha bits of the real default framebuffer's back buffer.
+/// Alpha bits of the real default framebuffer's colour buffer (the front one of a
+/// single-buffered window; ES names only the back one).
 fn default_has_alpha(gl: &Gl, info: GlInfo) -> bool {
-    let mut bits = 8;
-    let attachment = if info.es { BACK } else { BACK_LEFT };
-    // SAFETY: the default framebuffer is bound for draw (by the caller's guard) and the
-    // query writes one integer.
-    unsafe {
-        gl.BindFramebuffer(DRAW_FRAMEBUFFER, 0);
-        gl.GetFramebufferAttachmentParameteriv(
-            DRAW_FRAMEBUFFER,
-            attachment,
-            FRAMEBUFFER_ATTACHMENT_ALPHA_SIZE,
-            &mut bits,
-        );
-    }
-    bits > 0
+    let alpha = |buffer| default_size(gl, buffer, FRAMEBUFFER_ATTACHMENT_ALPHA_SIZE);
+    let bits = if info.es {
+        alpha(BACK)
+    } else {
+        alpha(BACK_LEFT).or_else(|| alpha(FRONT_LEFT))
+    };
+    bits.unwrap_or(8) > 0
 }
 
 impl QuiltTarget {

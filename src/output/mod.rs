@@ -40,6 +40,15 @@ impl Presenter {
         Ok(())
     }
 
+    /// How many objects of ours live in this context only: the weave's framebuffer, the
+    /// passes' vertex array.
+    pub fn context_objects(&self) -> crate::multiview::ContextObjects {
+        crate::multiview::ContextObjects {
+            framebuffers: usize::from(self.native.as_ref().is_some_and(|n| n.fbo != 0)),
+            vertex_arrays: usize::from(self.passes.vao != 0),
+        }
+    }
+
     /// What of ours outlives the context in its share group: the weave texture and the
     /// passes' programs.
     pub fn shared_objects(&self) -> LayerObjects {

@@ -4,7 +4,8 @@
 //! deterministic the way the issue suggests: record an apitrace once, replay it plainly with
 //! glretrace's own snapshots, replay it again under the layer with our dumps, and compare the
 //! same frame bit for bit. glmark2 itself (which `dlopen`s libGL `RTLD_LOCAL`) is also run
-//! directly to prove the dlopen/dlsym path is hooked.
+//! directly to prove the dlopen/dlsym path is hooked. Every replay under the layer reports no
+//! GL error that the plain replay of the same trace does not (`assert_no_added_gl_errors`).
 
 use crate::util::*;
 use std::path::{Path, PathBuf};
@@ -36,41 +37,43 @@ fn record(dir: &Path, name: &str, api: &str, program: &[&str], seconds: &str) ->
     trace
 }
 
-/// Frame `frame` (from 1) of a plain replay, as glretrace's own snapshot.
-fn plain_snapshot(dir: &Path, retrace: &str, trace: &Path, frame: u32) -> PathBuf {
+/// Frame `frame` (from 1) of a plain replay, as glretrace's own snapshot, and what the
+/// replay said on stderr (its GL errors).
+fn plain_snapshot(dir: &Path, retrace: &str, trace: &Path, frame: u32) -> (PathBuf, String) {
     let snaps = dir.join("plain");
     std::fs::create_dir_all(&snaps).unwrap();
     let prefix = format!("{}/", snaps.display());
     let out = run(
         Path::new(retrace),
         &["--call-nos=false", "-s", &prefix, trace.to_str().unwrap()],
-        &[],
+        &[MESA_DEBUG_ENV],
     );
     assert_success(&out, retrace);
-    snaps.join(format!("{:010}.png", frame - 1))
+    (snaps.join(format!("{:010}.png", frame - 1)), stderr(&out))
 }
 
-/// The same frame replayed under the layer, as the layer's dump.
-fn injected_dump(dir: &Path, retrace: &str, trace: &Path, frame: u32) -> PathBuf {
+/// The same frame replayed under the layer, as the layer's dump, and the replay's stderr.
+fn injected_dump(dir: &Path, retrace: &str, trace: &Path, frame: u32) -> (PathBuf, String) {
     let dump = dir.join("injected");
     let n = frame.to_string();
     let mut options = vec!["--output", "mono", "--log", "info"];
     options.extend(dump_and_exit_at(&dump, &n));
-    let out = under_layer(&options, retrace, &[trace.to_str().unwrap()], &[]);
+    let out = under_layer(&options, retrace, &[trace.to_str().unwrap()], &[MESA_DEBUG_ENV]);
     assert_success(&out, "replay under the layer");
     assert_layer_loaded(&out);
-    dump.join(format!("f{frame:06}_out.png"))
+    (dump.join(format!("f{frame:06}_out.png")), stderr(&out))
 }
 
 fn assert_replay_identical(test: &str, api: &str, retrace: &str, program: &[&str], seconds: &str, frame: u32) {
     let dir = temp_dir(test);
     let trace = record(&dir, test, api, program, seconds);
-    let expected = plain_snapshot(&dir, retrace, &trace, frame);
-    let actual = injected_dump(&dir, retrace, &trace, frame);
+    let (expected, plain_err) = plain_snapshot(&dir, retrace, &trace, frame);
+    let (actual, layer_err) = injected_dump(&dir, retrace, &trace, frame);
     assert!(
         has_content(&expected),
         "frame {frame} of {test} is blank; pick a later frame"
     );
+    assert_no_added_gl_errors(&plain_err, &layer_err, test);
     assert_identical(&expected, &actual);
 }
 
@@ -87,11 +90,28 @@ const PARALLAX_SEARCH: i32 = 40;
 /// wrong convergence slides as a whole (no spread); one at a sensible convergence has near
 /// and far content moving opposite ways. Returns the layer's auto-convergence log line.
 fn assert_replay_quilt(test: &str, api: &str, retrace: &str, program: &[&str], seconds: &str, frame: u32) -> String {
-    replay_quilt(test, api, retrace, program, seconds, frame, true)
+    replay_quilt(test, api, retrace, program, seconds, frame, QuiltChecks::ALL)
 }
 
-/// `assert_replay_quilt`; `parallax: false` for scenes drawn flat (2D compositing), where only
-/// the centre view is checked.
+/// What `replay_quilt` asserts of the quilt besides the GL errors (always checked).
+#[derive(Clone, Copy)]
+struct QuiltChecks {
+    /// The centre tile is the plain frame within the centre-view tolerance; when not
+    /// asserted, its figures are still printed.
+    centre: bool,
+    /// The side views show depth (`assert_depth_parallax`).
+    parallax: bool,
+}
+
+impl QuiltChecks {
+    const ALL: QuiltChecks = QuiltChecks {
+        centre: true,
+        parallax: true,
+    };
+}
+
+/// `assert_replay_quilt` with a choice of checks: scenes drawn flat (2D compositing) have no
+/// parallax to check.
 fn replay_quilt(
     test: &str,
     api: &str,
@@ -99,11 +119,12 @@ fn replay_quilt(
     program: &[&str],
     seconds: &str,
     frame: u32,
-    parallax: bool,
+    checks: QuiltChecks,
 ) -> String {
     let dir = temp_dir(test);
     let trace = record(&dir, test, api, program, seconds);
-    let plain = read_png(&plain_snapshot(&dir, retrace, &trace, frame));
+    let (plain_png, plain_err) = plain_snapshot(&dir, retrace, &trace, frame);
+    let plain = read_png(&plain_png);
     let dump = dir.join("quilt");
     let n = frame.to_string();
     // Auto-convergence even where a preset pins it (glxgears, es2gears, chromium-bsu): the
@@ -111,9 +132,10 @@ fn replay_quilt(
     let mut options = vec!["--quilt", "5x1", "--depthiness", "0.1", "--convergence", "auto"];
     options.extend(["--log", "info"]);
     options.extend(dump_and_exit_at(&dump, &n));
-    let out = under_layer(&options, retrace, &[trace.to_str().unwrap()], &[]);
+    let out = under_layer(&options, retrace, &[trace.to_str().unwrap()], &[MESA_DEBUG_ENV]);
     assert_success(&out, "replay under the layer");
     let err = stderr(&out);
+    assert_no_added_gl_errors(&plain_err, &err, test);
     let convergence = err
         .lines()
         .filter(|l| l.contains("auto-convergence"))
@@ -130,8 +152,12 @@ fn replay_quilt(
         pixels: limit,
     };
     let what = format!("{test}: centre tile against the plain frame");
-    assert_within(&plain, &centre, &suffixed(&quilt_png, "-centre"), rule, &what);
-    if parallax {
+    if checks.centre {
+        assert_within(&plain, &centre, &suffixed(&quilt_png, "-centre"), rule, &what);
+    } else {
+        print_centre_figures(&plain, &centre, rule, &what);
+    }
+    if checks.parallax {
         assert_depth_parallax(&quilt, &quilt_png, 5, PARALLAX_SEARCH, test);
     }
     convergence
@@ -192,7 +218,47 @@ fn glmark2_terrain_fbo_quilt() {
 #[test]
 fn glmark2_desktop_fbo_quilt_centre() {
     let prog = ["glmark2", "-s", "400x300", "-b", "desktop:duration=0.5"];
-    replay_quilt("glmark2_desktop_fbo_quilt", "gl", "glretrace", &prog, "20", 8, false);
+    let checks = QuiltChecks {
+        centre: true,
+        parallax: false,
+    };
+    replay_quilt("glmark2_desktop_fbo_quilt", "gl", "glretrace", &prog, "20", 8, checks);
+}
+
+/// `refract`: the scene's depth drawn into a framebuffer with an unsized `GL_DEPTH_COMPONENT`
+/// texture of `GL_UNSIGNED_INT` (32 bits on Mesa), sampled by the refraction pass.
+/// Regression: the layers of that texture were 24-bit, and every depth blit between them and
+/// the app's texture was `GL_INVALID_OPERATION` (10 in a 3x3 replay).
+///
+/// The centre tile is not asserted: chained refraction lookups amplify the last bit of the
+/// varyings, and the rewritten vertex shader compiles differently, so the centre view is
+/// not the plain frame inside the bunny (measured in three recordings: 3,906 to 5,612 of
+/// 120,000 pixels off by more than one level, the tolerance being 60; PSNR 35-36 dB; a
+/// separate fix of the rewrite is under way). Its figures are printed; the errors and the
+/// parallax are asserted.
+#[test]
+fn glmark2_refract_fbo_quilt() {
+    let prog = ["glmark2", "-s", "400x300", "-b", "refract:nframes=24"];
+    let checks = QuiltChecks {
+        centre: false,
+        parallax: true,
+    };
+    replay_quilt("glmark2_refract_fbo_quilt", "gl", "glretrace", &prog, "20", 12, checks);
+}
+
+/// How far a centre tile is from the plain frame, for a test that cannot assert it yet.
+fn print_centre_figures(plain: &Image, centre: &Image, rule: Tolerance, what: &str) {
+    let beyond = pixels_off(plain, centre, rule.level);
+    let any = pixels_off(plain, centre, 0);
+    let (max, _) = difference(&plain.rgb, &centre.rgb);
+    let psnr = tile_psnr(plain, centre, 1, 1)[0];
+    eprintln!(
+        "{what} (not asserted): {beyond} of {} pixels off by more than {} level(s) (tolerance {}), \
+         {any} differ at all, largest channel difference {max}, PSNR {psnr:.2} dB",
+        plain.width * plain.height,
+        rule.level,
+        rule.pixels
+    );
 }
 
 // `texture` and `pulsar` start flat (a crate's front face; quads squashed into a band a few
@@ -264,7 +330,9 @@ fn chromium_bsu_quilt_has_parallax_and_exact_centre() {
 
 /// Regression: an ES context on a window with a 32-bit depth buffer (glmark2-es2) got a
 /// `GL_DEPTH_COMPONENT32` quilt, which ES cannot render to, and lost multiview. Both glmark2
-/// flavours now run FBO-heavy scenes under a quilt without a single layer error or warning.
+/// flavours now run FBO-heavy scenes under a quilt without a single layer error or warning,
+/// and without a GL error their plain runs do not have (Mesa reports every one: the quilt
+/// asked the stencil size of windows without stencil, an error at every start).
 #[test]
 fn es_window_with_32bit_depth_gets_a_quilt() {
     require_display();
@@ -281,14 +349,34 @@ fn es_window_with_32bit_depth_gets_a_quilt() {
             "-b",
             "desktop:duration=0.2",
         ];
-        let out = under_layer(&["--quilt", "3x3", "--log", "warn"], program, &args, &[]);
+        let plain = run(Path::new(program), &args, &[MESA_DEBUG_ENV]);
+        assert_success(&plain, program);
+        let out = under_layer(&["--quilt", "3x3", "--log", "warn"], program, &args, &[MESA_DEBUG_ENV]);
         assert_success(&out, program);
         let err = stderr(&out);
         assert!(
             !err.contains("holoinject: error") && !err.contains("holoinject: warn"),
             "{program}:\n{err}"
         );
+        assert_no_added_gl_errors(&stderr(&plain), &err, program);
     }
+}
+
+/// The quilt of an ES context cannot have a 32-bit window's depth format (no 32-bit
+/// normalised depth in ES: the quilt's is float), and a depth blit between the two is an
+/// error. When the layer gives up, the frame's depth goes back to the window through a pass
+/// instead (regression: `GL_INVALID_OPERATION in glBlitFramebuffer(depth attachment format
+/// mismatch)` at the hand-back).
+#[test]
+fn es_window_with_32bit_depth_gets_its_depth_back_without_error() {
+    require_display();
+    let args = ["-s", "320x240", "-b", "build:duration=0.3"];
+    let env = [MESA_DEBUG_ENV, ("HOLOINJECT_TEST_FAIL", "eglSwapBuffers")];
+    let out = under_layer(&["--quilt", "3x3", "--log", "info"], "glmark2-es2", &args, &env);
+    assert_success(&out, "glmark2-es2");
+    let err = stderr(&out);
+    assert!(err.contains("depth copied by a pass"), "{err}");
+    assert_no_added_gl_errors("", &err, "glmark2-es2 handed back");
 }
 
 /// Contexts destroyed and re-created (glmark2 probes with one context, destroys it and makes

@@ -228,7 +228,7 @@ fn channel_distance(p: &[u8], q: &[u8]) -> u8 {
 }
 
 /// Pixels with any channel more than `level` apart (images of one size).
-fn pixels_off(e: &Image, a: &Image, level: u8) -> usize {
+pub fn pixels_off(e: &Image, a: &Image, level: u8) -> usize {
     e.rgb
         .chunks(3)
         .zip(a.rgb.chunks(3))

@@ -1,11 +1,13 @@
 //! Helpers shared by the integration tests: locating the built layer, launcher and sample
 //! apps, running them headless with a time limit (plainly or under the layer), checking what
-//! they said, and comparing images (`image`, `compare`).
+//! they said (`gl_errors`: GL errors reported), and comparing images (`image`, `compare`).
 
 mod compare;
+mod gl_errors;
 mod image;
 mod parallax;
 pub use compare::*;
+pub use gl_errors::*;
 pub use image::*;
 pub use parallax::*;
 
