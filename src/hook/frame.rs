@@ -49,6 +49,10 @@ fn multiview_frame(frame: u64, surface: usize, settings: &Settings) {
             return;
         };
         let (mv, presenter) = (&mut layer.views, &mut layer.presenter);
+        if let Some(t) = &mv.target {
+            // As the window resolves at its swap.
+            t.resolve_all(gl, mv.info, crate::gl::COLOR_BUFFER_BIT);
+        }
         if let Err(e) = presenter.present(gl, mv, window, settings.view.output) {
             log::once(&COMPOSE_FAILED, Level::Error, format_args!("{e}"));
         }

@@ -34,6 +34,7 @@ pub mod shadow;
 pub mod shift;
 pub mod target;
 pub mod ubo;
+pub mod window_format;
 
 use crate::camera::CameraEstimate;
 use crate::config::ViewSettings;
@@ -126,7 +127,13 @@ impl Multiview {
         let mut o = LayerObjects::default();
         if let Some(t) = &self.target {
             o.textures.push(t.color);
-            o.renderbuffers.push(t.depth);
+            if t.sampled != t.color {
+                o.textures.push(t.sampled);
+            }
+            o.renderbuffers.extend([t.depth, t.msaa_color]);
+            if t.resolved_depth != t.depth {
+                o.renderbuffers.push(t.resolved_depth);
+            }
         }
         for image in self.images.values() {
             o.textures.extend(image.textures());

@@ -18,6 +18,16 @@ fn fit(w: u32, h: u32, win_w: u32, win_h: u32) -> [i32; 4] {
     [x0, y0, x0 + fw, y0 + fh]
 }
 
+/// Where a tile at quilt position `origin` lands when the whole quilt is drawn into `to`
+/// (corners), rounded as the edges of the whole are.
+fn tile_in(layout: QuiltLayout, origin: (i32, i32), to: [i32; 4]) -> [i32; 4] {
+    let (qw, qh) = (layout.width() as f64, layout.height() as f64);
+    let x = |q: i32| to[0] + (q as f64 * (to[2] - to[0]) as f64 / qw).round() as i32;
+    let y = |q: i32| to[1] + (q as f64 * (to[3] - to[1]) as f64 / qh).round() as i32;
+    let (w, h) = (layout.tile_w as i32, layout.tile_h as i32);
+    [x(origin.0), y(origin.1), x(origin.0 + w), y(origin.1 + h)]
+}
+
 fn corners(r: [i32; 4]) -> [i32; 4] {
     [r[0], r[1], r[0] + r[2], r[1] + r[3]]
 }
@@ -69,7 +79,7 @@ pub fn present(
     output: Output,
 ) -> Result<(), String> {
     let target = mv.target.as_ref().ok_or("no quilt")?;
-    let (layout, quilt_fbo, quilt_tex): (QuiltLayout, u32, u32) = (target.layout, target.fbo, target.color);
+    let (layout, quilt_fbo, quilt_tex): (QuiltLayout, u32, u32) = (target.layout, target.resolved_fbo, target.sampled);
     let _guard = StateGuard::new(gl, mv.info).framebuffers().for_pass();
     crate::output::pass::neutral_state(gl, mv.info);
     // SAFETY: our quilt as the read source, the real default framebuffer as destination.
@@ -84,12 +94,13 @@ pub fn present(
         Output::Mono => blit(gl, corners(layout.tile_rect(mv.camera.rig.centre())), win, LINEAR),
         Output::Quilt => {
             clear_window(gl);
-            blit(
-                gl,
-                [0, 0, layout.width() as i32, layout.height() as i32],
-                fit(layout.width(), layout.height(), window.0, window.1),
-                LINEAR,
-            );
+            let to = fit(layout.width(), layout.height(), window.0, window.1);
+            blit(gl, [0, 0, layout.width() as i32, layout.height() as i32], to, LINEAR);
+            // The two views drawn in each other's place go back to their own.
+            for view in layout.swapped().map_or(vec![], |(a, b)| vec![a, b]) {
+                let cell = tile_in(layout, layout.cell_origin(view), to);
+                blit(gl, corners(layout.tile_rect(view)), cell, LINEAR);
+            }
         }
         Output::SideBySide => {
             let (l, r) = stereo_pair(layout.views());
@@ -103,6 +114,7 @@ pub fn present(
             let input = crate::output::native::WeaveInput {
                 device: &device,
                 quilt_texture: quilt_tex,
+                layout,
                 views: layout.views(),
                 grid: (layout.cols, layout.rows),
                 filter: mv.settings.weave_filter,
@@ -151,6 +163,7 @@ fn anaglyph(
         gl.Uniform4i(u("u_left"), tl[0], tl[1], tl[2], tl[3]);
         gl.Uniform4i(u("u_right"), tr[0], tr[1], tr[2], tr[3]);
         gl.Uniform2i(u("u_out_size"), window.0 as i32, window.1 as i32);
+        gl.Uniform1i(u("u_flipped"), layout.flipped as i32);
     }
     presenter.passes.draw(gl);
     Ok(())
@@ -164,6 +177,13 @@ mod tests {
     fn letterbox_keeps_aspect() {
         assert_eq!(fit(200, 100, 100, 100), [0, 25, 100, 75]);
         assert_eq!(fit(100, 100, 200, 100), [50, 0, 150, 100]);
+    }
+
+    #[test]
+    fn tiles_land_inside_the_fitted_quilt() {
+        let l = QuiltLayout::new((5, 1), None, (64, 48));
+        assert_eq!(tile_in(l, l.cell_origin(2), [0, 0, 160, 24]), [64, 0, 96, 24]);
+        assert_eq!(tile_in(l, l.cell_origin(4), [10, 5, 170, 29]), [138, 5, 170, 29]);
     }
 
     #[test]

@@ -1,0 +1,108 @@
+//! What the real default framebuffer is made of, asked of GL before the quilt stands in for
+//! it, so that the quilt can be made of the same: what a draw to framebuffer 0 computes
+//! depends on the target's sample count (coverage, the resolve), its colour encoding (what
+//! `GL_FRAMEBUFFER_SRGB` does), its alpha bits (whether destination alpha reads as 1), its
+//! depth precision, and, on Mesa, its orientation: Mesa stores window framebuffers top-down
+//! and framebuffer objects bottom-up, and rasterises, rounds interpolants and covers smooth
+//! lines in storage coordinates, so the same draw lands on different pixels in the two
+//! (xscreensaver's `winduprobot`, thin smooth lines: 28,858 of 307,200 pixels off by more
+//! than one level). Mesa's
+//! `GL_MESA_framebuffer_flip_y` makes a framebuffer object stored like a window; Mesa then
+//! maps viewports, scissors, reads, blits, copies, raster positions and `gl_FragCoord` itself.
+
+use crate::gl::GlInfo;
+use crate::gl::guard::{StateGuard, get_i};
+use crate::gl::*;
+use std::ffi::CStr;
+
+/// `GL_MESA_framebuffer_flip_y` (not in the generated bindings).
+pub const FRAMEBUFFER_FLIP_Y_MESA: GLenum = 0x8BBB;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct WindowFormat {
+    pub alpha: bool,
+    pub srgb: bool,
+    /// Samples per pixel, 0 for a single-sampled window.
+    pub samples: i32,
+    /// Depth/stencil storage and where it attaches.
+    pub depth: (GLenum, GLenum),
+    /// Framebuffer objects can be stored top-down like the window (Mesa only; other drivers
+    /// do not say how they store windows).
+    pub flip_y: bool,
+}
+
+/// One attachment query on the real default framebuffer (bound for draw by the caller).
+fn default_iv(gl: &Gl, attachment: GLenum, pname: GLenum, default: i32) -> i32 {
+    let mut v = default;
+    // SAFETY: one integer out; framebuffer 0 is bound for draw.
+    unsafe { gl.GetFramebufferAttachmentParameteriv(DRAW_FRAMEBUFFER, attachment, pname, &mut v) };
+    v
+}
+
+/// Depth/stencil storage like the window's: a 32-bit window depth buffer resolves close
+/// surfaces differently from a 24-bit one, so the quilt must not be coarser.
+fn depth_format(gl: &Gl, info: GlInfo) -> (GLenum, GLenum) {
+    let d = default_iv(gl, DEPTH, FRAMEBUFFER_ATTACHMENT_DEPTH_SIZE, 0);
+    let s = default_iv(gl, STENCIL, FRAMEBUFFER_ATTACHMENT_STENCIL_SIZE, 0);
+    match (d, s > 0) {
+        // ES has no 32-bit normalised depth renderbuffers.
+        (32, false) if info.es => (DEPTH_COMPONENT32F, DEPTH_ATTACHMENT),
+        (32, false) => (DEPTH_COMPONENT32, DEPTH_ATTACHMENT),
+        (32, true) => (DEPTH32F_STENCIL8, DEPTH_STENCIL_ATTACHMENT),
+        (16, false) => (DEPTH_COMPONENT16, DEPTH_ATTACHMENT),
+        _ => (DEPTH24_STENCIL8, DEPTH_STENCIL_ATTACHMENT),
+    }
+}
+
+/// Whether the context lists each of `names`.
+fn extensions<const N: usize>(gl: &Gl, names: [&str; N]) -> [bool; N] {
+    let mut found = [false; N];
+    if !gl.GetStringi.is_loaded() {
+        return found;
+    }
+    for i in 0..get_i(gl, NUM_EXTENSIONS).max(0) as u32 {
+        // SAFETY: an index below GL_NUM_EXTENSIONS; GL returns a static string or null.
+        let p = unsafe { gl.GetStringi(EXTENSIONS, i) };
+        if p.is_null() {
+            continue;
+        }
+        // SAFETY: GL's extension names are NUL-terminated static strings.
+        let name = unsafe { CStr::from_ptr(p.cast()) }.to_bytes();
+        for (k, n) in names.iter().enumerate() {
+            found[k] |= name == n.as_bytes();
+        }
+    }
+    found
+}
+
+impl WindowFormat {
+    /// The real default framebuffer's format; bindings restored.
+    pub fn query(gl: &Gl, info: GlInfo) -> WindowFormat {
+        let _guard = StateGuard::new(gl, info).framebuffers();
+        // SAFETY: binding the real default framebuffer for the queries; restored by the guard.
+        unsafe { gl.BindFramebuffer(DRAW_FRAMEBUFFER, 0) };
+        let color = if info.es { BACK } else { BACK_LEFT };
+        let alpha = default_iv(gl, color, FRAMEBUFFER_ATTACHMENT_ALPHA_SIZE, 8) > 0;
+        let encoding = default_iv(gl, color, FRAMEBUFFER_ATTACHMENT_COLOR_ENCODING, LINEAR as i32);
+        let [flip_y] = extensions(gl, ["GL_MESA_framebuffer_flip_y"]);
+        WindowFormat {
+            alpha,
+            srgb: encoding as GLenum == SRGB,
+            samples: get_i(gl, SAMPLES).max(0),
+            depth: depth_format(gl, info),
+            flip_y: flip_y && gl.FramebufferParameteri.is_loaded(),
+        }
+    }
+
+    /// The colour format of a quilt behaving like the window.
+    pub fn color_format(&self, info: GlInfo) -> GLenum {
+        match (self.srgb, self.alpha) {
+            (false, true) => RGBA8,
+            (false, false) => RGB8,
+            (true, true) => SRGB8_ALPHA8,
+            // ES cannot render to SRGB8.
+            (true, false) if info.es => SRGB8_ALPHA8,
+            (true, false) => SRGB8,
+        }
+    }
+}
