@@ -398,15 +398,11 @@ fn injected_depth(dir: &Path, setup: &[&str]) -> Vec<f32> {
 /// and the app's glReadPixels of framebuffer 0 must read it (the centre tile of the quilt's
 /// depth attachment, as precise as the window's). Default and extreme set-ups.
 ///
-/// Two comparisons, each with the centre-view tolerance of the colour tests (≤ 16 values):
-/// - against the app's own reference quilt (same FBO, same tile offsets): bitwise;
-///   measured 0 differing values in every set-up.
-/// - against the app's window without the layer: values off by more than 3 depth steps
-///   (2^-24). llvmpipe rasterises into window surfaces and FBOs with different rounding
-///   (cubes.rs culls back faces for the same reason): the app's own reference quilt differs
-///   from its window in exactly the same values as the layer does, 26 (reversed-Z, finite)
-///   to 14,455 (near 1e-4) values by 1-3 steps, plus one edge pixel that the tile's viewport
-///   offset covers differently (as for colour). Measured: 1 value beyond 3 steps per set-up.
+/// The quilt is drawn like the window (stored top-down, the centre view at the storage
+/// origin: `multiview::window_format`, `layout`), so the depth is the window's bit for bit.
+/// The app's own reference quilt, drawn bottom-up into an FBO at tile offsets, is not: it is
+/// printed for comparison (measured: 26 (reversed-Z, finite) to 14,455 (near 1e-4) values
+/// differ, mostly by 1-3 depth steps).
 #[test]
 fn centre_view_depth_matches_passthrough() {
     let setups = std::iter::once(&[][..]).chain(EXTREME_DEPTH_SETUPS);
@@ -419,28 +415,16 @@ fn centre_view_depth_matches_passthrough() {
         let clear = if setup.contains(&"reversed") { 0.0 } else { 1.0 };
         let drawn = plain.iter().filter(|&&d| d != clear).count();
         let (ref_bits, _, ref_max) = depth_diff(&centre, &injected, 0.0);
-        let window_steps = 3.5;
-        let (win_bits, win_far, win_max) = depth_diff(&plain, &injected, window_steps);
+        let (win_bits, _, win_max) = depth_diff(&plain, &injected, 0.0);
         eprintln!(
-            "depth {setup:?}: {drawn}/{} drawn; vs app's FBO centre view: {ref_bits} differ (max {ref_max:.3e}); \
-             vs app's window: {win_bits} differ, {win_far} by > 3 steps (max {win_max:.3e})",
+            "depth {setup:?}: {drawn}/{} drawn; vs app's window: {win_bits} differ (max {win_max:.3e}); \
+             vs app's FBO centre view: {ref_bits} differ (max {ref_max:.3e})",
             plain.len()
         );
         assert!(drawn * 10 >= plain.len(), "{setup:?}: only {drawn} depth values drawn");
-        if ref_bits > 16 {
-            let msg = format!("{setup:?}: {ref_bits} depth values differ from the app's FBO render");
-            fail_with_depth_images(&msg, &dir.join("injected-vs-fbo.f32"), &centre, &injected, 0.0, clear);
-        }
-        if win_far > 16 {
-            let msg = format!("{setup:?}: {win_far} depth values differ from the app's window");
-            fail_with_depth_images(
-                &msg,
-                &dir.join("injected-vs-window.f32"),
-                &plain,
-                &injected,
-                window_steps,
-                clear,
-            );
+        if win_bits > 0 {
+            let msg = format!("{setup:?}: {win_bits} depth values differ from the app's window");
+            fail_with_depth_images(&msg, &dir.join("injected-vs-window.f32"), &plain, &injected, 0.0, clear);
         }
     }
 }
