@@ -36,13 +36,14 @@ pub fn ensure_target(gl: &Gl, app: &AppState, mv: &mut Multiview, window: (u32, 
                 window.1
             ));
             crate::log::info(format_args!(
-                "quilt stored {}, {} samples per pixel",
+                "quilt made like the window ({:?}): colour {:#x}, stored {}",
+                t.window,
+                t.color_format,
                 if t.layout.flipped {
-                    "top-down like the window"
+                    "top-down as the window is"
                 } else {
                     "bottom-up"
                 },
-                t.samples
             ));
             mv.target = Some(t);
             mv.update_rig(wanted);

@@ -31,6 +31,9 @@ pub struct QuiltTarget {
     pub resolved_depth: u32,
     pub samples: i32,
     pub layout: QuiltLayout,
+    /// What the quilt was made like, and its colour format.
+    pub window: WindowFormat,
+    pub color_format: GLenum,
 }
 
 /// Formats of one attempt at the quilt: colour, depth/stencil and its attachment point.
@@ -115,7 +118,7 @@ impl QuiltTarget {
     pub fn create(gl: &Gl, info: GlInfo, layout: QuiltLayout) -> Result<QuiltTarget, String> {
         let window = WindowFormat::query(gl, info);
         let color = window.color_format(info);
-        let with_alpha = if window.srgb { SRGB8_ALPHA8 } else { RGBA8 };
+        let with_alpha = window.with_alpha();
         let plain = (RGBA8, (DEPTH24_STENCIL8, DEPTH_STENCIL_ATTACHMENT));
         let mut tries: Vec<Formats> = vec![(color, window.depth), (with_alpha, window.depth), plain];
         tries.dedup();
@@ -185,6 +188,8 @@ impl QuiltTarget {
             resolved_depth,
             samples,
             layout,
+            window,
+            color_format,
         };
         if !ok {
             target.delete(gl);

@@ -20,7 +20,8 @@ pub const FRAMEBUFFER_FLIP_Y_MESA: GLenum = 0x8BBB;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct WindowFormat {
-    pub alpha: bool,
+    /// Bits of red, green, blue and alpha.
+    pub bits: [i32; 4],
     pub srgb: bool,
     /// Samples per pixel, 0 for a single-sampled window.
     pub samples: i32,
@@ -82,11 +83,17 @@ impl WindowFormat {
         // SAFETY: binding the real default framebuffer for the queries; restored by the guard.
         unsafe { gl.BindFramebuffer(DRAW_FRAMEBUFFER, 0) };
         let color = if info.es { BACK } else { BACK_LEFT };
-        let alpha = default_iv(gl, color, FRAMEBUFFER_ATTACHMENT_ALPHA_SIZE, 8) > 0;
+        let bits = [
+            FRAMEBUFFER_ATTACHMENT_RED_SIZE,
+            FRAMEBUFFER_ATTACHMENT_GREEN_SIZE,
+            FRAMEBUFFER_ATTACHMENT_BLUE_SIZE,
+            FRAMEBUFFER_ATTACHMENT_ALPHA_SIZE,
+        ]
+        .map(|pname| default_iv(gl, color, pname, 8));
         let encoding = default_iv(gl, color, FRAMEBUFFER_ATTACHMENT_COLOR_ENCODING, LINEAR as i32);
         let [flip_y] = extensions(gl, ["GL_MESA_framebuffer_flip_y"]);
         WindowFormat {
-            alpha,
+            bits,
             srgb: encoding as GLenum == SRGB,
             samples: get_i(gl, SAMPLES).max(0),
             depth: depth_format(gl, info),
@@ -94,15 +101,63 @@ impl WindowFormat {
         }
     }
 
-    /// The colour format of a quilt behaving like the window.
+    /// The colour format of a quilt behaving like the window: as many bits per channel
+    /// (blending and dithering round to them), no alpha where the window has none
+    /// (destination alpha then reads as 1), sRGB where the window is sRGB-capable.
     pub fn color_format(&self, info: GlInfo) -> GLenum {
-        match (self.srgb, self.alpha) {
-            (false, true) => RGBA8,
-            (false, false) => RGB8,
-            (true, true) => SRGB8_ALPHA8,
+        let alpha = self.bits[3] > 0;
+        match (self.bits, self.srgb, alpha) {
+            (_, true, true) => SRGB8_ALPHA8,
             // ES cannot render to SRGB8.
-            (true, false) if info.es => SRGB8_ALPHA8,
-            (true, false) => SRGB8,
+            (_, true, false) if info.es => SRGB8_ALPHA8,
+            (_, true, false) => SRGB8,
+            ([5, 6, 5, 0], _, _) => RGB565,
+            ([10, 10, 10, 2], _, _) => RGB10_A2,
+            ([10, 10, 10, 0], _, _) if info.es => RGB10_A2,
+            ([10, 10, 10, 0], _, _) => RGB10,
+            ([16, 16, 16, _], _, true) if !info.es => RGBA16,
+            ([16, 16, 16, _], _, false) if !info.es => RGB16,
+            (_, _, true) => RGBA8,
+            (_, _, false) => RGB8,
         }
+    }
+
+    /// The closest format with alpha, should the driver not render to `color_format`.
+    pub fn with_alpha(&self) -> GLenum {
+        match (self.srgb, self.bits[0]) {
+            (true, _) => SRGB8_ALPHA8,
+            (false, 10) => RGB10_A2,
+            (false, _) => RGBA8,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn window(bits: [i32; 4], srgb: bool) -> WindowFormat {
+        WindowFormat {
+            bits,
+            srgb,
+            samples: 0,
+            depth: (DEPTH24_STENCIL8, DEPTH_STENCIL_ATTACHMENT),
+            flip_y: true,
+        }
+    }
+
+    #[test]
+    fn quilt_colour_follows_the_window() {
+        let gl = GlInfo::parse("4.5 (Compatibility Profile) Mesa 22.3.6");
+        let es = GlInfo::parse("OpenGL ES 3.2 Mesa 22.3.6");
+        assert_eq!(window([8, 8, 8, 8], false).color_format(gl), RGBA8);
+        assert_eq!(window([8, 8, 8, 0], false).color_format(gl), RGB8);
+        assert_eq!(window([8, 8, 8, 8], true).color_format(gl), SRGB8_ALPHA8);
+        assert_eq!(window([8, 8, 8, 0], true).color_format(gl), SRGB8);
+        assert_eq!(window([8, 8, 8, 0], true).color_format(es), SRGB8_ALPHA8);
+        assert_eq!(window([10, 10, 10, 0], false).color_format(gl), RGB10);
+        assert_eq!(window([10, 10, 10, 2], false).color_format(gl), RGB10_A2);
+        assert_eq!(window([5, 6, 5, 0], false).color_format(gl), RGB565);
+        assert_eq!(window([10, 10, 10, 0], false).with_alpha(), RGB10_A2);
     }
 }
