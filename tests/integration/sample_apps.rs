@@ -10,6 +10,8 @@
 use crate::util::*;
 use std::path::Path;
 
+mod window_formats;
+
 const FRAMES: &str = "3";
 const SIZE: &str = "320x240";
 

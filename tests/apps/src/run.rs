@@ -105,7 +105,7 @@ fn run(o: &Options, profile: Profile, make: Box<MakeScene>) -> Result<(), String
         samples: o.samples,
         alpha: o.alpha,
     };
-    let mut plat = platform::create(o.backend, o.size, profile, config)?;
+    let mut plat = platform::create_with(o.backend, o.size, profile, config)?;
     let gl = load_gl(plat.as_ref())?;
     if o.srgb {
         if profile.is_es() {

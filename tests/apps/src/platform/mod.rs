@@ -54,7 +54,11 @@ impl Default for WindowConfig {
     }
 }
 
-pub fn create(
+pub fn create(backend: Backend, size: (u32, u32), profile: Profile) -> Result<Box<dyn Platform>, String> {
+    create_with(backend, size, profile, WindowConfig::default())
+}
+
+pub fn create_with(
     backend: Backend,
     size: (u32, u32),
     profile: Profile,
