@@ -4,6 +4,7 @@
 //! starts from exactly where it left off.
 
 use super::Presenter;
+use super::staging::Staging;
 use crate::config::Output;
 use crate::gl::guard::StateGuard;
 use crate::gl::*;
@@ -82,11 +83,18 @@ pub fn present(
     let (layout, quilt_fbo, quilt_tex): (QuiltLayout, u32, u32) = (target.layout, target.resolved_fbo, target.sampled);
     let _guard = StateGuard::new(gl, mv.info).framebuffers().for_pass();
     crate::output::pass::neutral_state(gl, mv.info);
-    // SAFETY: our quilt as the read source, the real default framebuffer as destination.
+    let staged = target.window.samples > 0;
+    let out_fbo = if staged {
+        Staging::ensure(gl, &mut presenter.staging, window, target.color_format)
+    } else {
+        0
+    };
+    // SAFETY: our quilt as the read source, the real default framebuffer (or what stands in
+    // for a multisampled one) as destination.
     unsafe {
         gl.Disable(SCISSOR_TEST);
         gl.BindFramebuffer(READ_FRAMEBUFFER, quilt_fbo);
-        gl.BindFramebuffer(DRAW_FRAMEBUFFER, 0);
+        gl.BindFramebuffer(DRAW_FRAMEBUFFER, out_fbo);
         gl.ReadBuffer(COLOR_ATTACHMENT0);
     }
     let win = [0, 0, window.0 as i32, window.1 as i32];
@@ -124,7 +132,7 @@ pub fn present(
             // SAFETY: the woven image to the window, fitted.
             unsafe {
                 gl.BindFramebuffer(READ_FRAMEBUFFER, fbo);
-                gl.BindFramebuffer(DRAW_FRAMEBUFFER, 0);
+                gl.BindFramebuffer(DRAW_FRAMEBUFFER, out_fbo);
             }
             clear_window(gl);
             let filter = if size == window { NEAREST } else { LINEAR };
@@ -135,6 +143,11 @@ pub fn present(
                 filter,
             );
         }
+    }
+    if let Some(s) = presenter.staging.as_ref().filter(|_| staged) {
+        // SAFETY: the real default framebuffer as destination; restored by the guard.
+        unsafe { gl.BindFramebuffer(DRAW_FRAMEBUFFER, 0) };
+        s.show(gl, mv.info, &mut presenter.passes)?;
     }
     Ok(())
 }
