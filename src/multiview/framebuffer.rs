@@ -254,12 +254,13 @@ pub fn centre_rect(gl: &Gl, app: &AppState, mv: &Multiview, r: [i32; 4]) -> Opti
 
 /// For a blit from framebuffer 0: a multisampled quilt is read resolved when its tiles are
 /// scaled (blits from multisampled buffers cannot scale, and the window's would not have
-/// to); the caller rebinds.
+/// to), and on ES, where they cannot move either (a tile is not where the window's pixels
+/// are); the caller rebinds.
 fn resolved_blit_source(gl: &Gl, app: &AppState, mv: &Multiview) {
     let Some(t) = mv.target.as_ref().filter(|t| app.read_fbo == 0 && t.samples > 0) else {
         return;
     };
-    if !t.layout.unscaled() {
+    if !t.layout.unscaled() || mv.info.es {
         t.resolve_all(gl, mv.info, ALL_BUFFERS);
         // SAFETY: our resolved quilt for reading.
         unsafe { gl.BindFramebuffer(READ_FRAMEBUFFER, t.resolved_fbo) };

@@ -36,8 +36,12 @@ pub struct QuiltTarget {
     pub color_format: GLenum,
 }
 
-/// Formats of one attempt at the quilt: colour, depth/stencil and its attachment point.
-type Formats = (GLenum, (GLenum, GLenum));
+/// One attempt at the quilt: samples, colour, depth/stencil and its attachment point.
+type Formats = (i32, GLenum, (GLenum, GLenum));
+
+/// Samples (pixels times samples per pixel) a multisampled quilt may have: 2^26, so colour
+/// and depth take at most 512 MB (4 samples of an 8x6 quilt of 640x480 tiles take 470 MB).
+const MAX_QUILT_SAMPLES: u64 = 1 << 26;
 
 /// A framebuffer of ours with `attach` done on it, stored as the window is when `flip`.
 fn framebuffer(gl: &Gl, flip: bool, attach: impl FnOnce()) -> u32 {
@@ -114,13 +118,31 @@ fn complete(gl: &Gl) -> bool {
 
 impl QuiltTarget {
     /// The quilt made like the window, or, when the driver cannot render to that, with
-    /// alpha, then in plain RGBA8 with 24/8 depth (each fallback logged).
+    /// alpha, then in plain RGBA8 with 24/8 depth, then single-sampled (each fallback
+    /// logged). A multisampled quilt past `MAX_QUILT_SAMPLES` is single-sampled.
     pub fn create(gl: &Gl, info: GlInfo, layout: QuiltLayout) -> Result<QuiltTarget, String> {
         let window = WindowFormat::query(gl, info);
-        let color = window.color_format(info);
-        let with_alpha = window.with_alpha();
+        let pixels = layout.width() as u64 * layout.height() as u64;
+        let samples = if window.samples as u64 * pixels > MAX_QUILT_SAMPLES {
+            crate::log::warn(format_args!(
+                "a {}x{} quilt with {} samples per pixel would take more than {} MB: single-sampled \
+                 (the centre view's edges then differ from the window's)",
+                layout.width(),
+                layout.height(),
+                window.samples,
+                (MAX_QUILT_SAMPLES * 8) >> 20,
+            ));
+            0
+        } else {
+            window.samples
+        };
         let plain = (RGBA8, (DEPTH24_STENCIL8, DEPTH_STENCIL_ATTACHMENT));
-        let mut tries: Vec<Formats> = vec![(color, window.depth), (with_alpha, window.depth), plain];
+        let mut tries: Vec<Formats> = vec![
+            (samples, window.color_format(info), window.depth),
+            (samples, window.with_alpha(), window.depth),
+            (samples, plain.0, plain.1),
+            (0, plain.0, plain.1),
+        ];
         tries.dedup();
         let mut error = String::new();
         for (n, formats) in tries.iter().enumerate() {
@@ -128,8 +150,9 @@ impl QuiltTarget {
                 Ok(t) if n == 0 => return Ok(t),
                 Ok(t) => {
                     crate::log::warn(format_args!(
-                        "the quilt cannot be made like the window ({window:?}); colour {:#x}, depth {:#x} instead",
-                        formats.0, formats.1.0
+                        "the quilt cannot be made like the window ({window:?}): {} samples, colour {:#x}, \
+                         depth {:#x} instead",
+                        formats.0, formats.1, formats.2.0
                     ));
                     return Ok(t);
                 }
@@ -144,12 +167,11 @@ impl QuiltTarget {
         info: GlInfo,
         window: WindowFormat,
         layout: QuiltLayout,
-        (color_format, (depth_format, depth_point)): Formats,
+        (samples, color_format, (depth_format, depth_point)): Formats,
     ) -> Result<QuiltTarget, String> {
         let _guard = StateGuard::new(gl, info).framebuffers().for_pass();
         let layout = layout.stored(window.flip_y);
         let size = (layout.width() as i32, layout.height() as i32);
-        let samples = window.samples;
         let color = texture(gl, color_format, size);
         let sampled = linear_view(gl, color, color_format);
         let depth = renderbuffer(gl, samples, depth_format, size);
