@@ -1,6 +1,6 @@
 //! The quilt behaves like the window it stands in for (issue 11). Whatever the window's
 //! format (multisampled, sRGB written with `GL_FRAMEBUFFER_SRGB`, without alpha bits) and
-//! however thin, smooth and blended the drawing, the centre tile of a 1x1 and of a 5x1
+//! however thin, smooth and blended the drawing, the centre tile of a 1x1, 5x1 and 3x3
 //! quilt is the app's own frame bit for bit, and so is what the app reads back from
 //! framebuffer 0 (its `--screenshot`: `glReadPixels`, or a resolving blit when multisampled).
 //!
@@ -14,14 +14,25 @@
 use super::{dir_for, injected, plain_screenshot};
 use crate::util::*;
 
+/// Also: no GL error from the layer (the app counts them through `KHR_debug`), presenting
+/// into a multisampled window included (a blit cannot scale into one).
 fn centre_is_the_window(spec: &str, backend: &str) {
-    for quilt in ["1x1", "5x1"] {
+    let spec = &format!("{spec} --debug-output");
+    for quilt in ["1x1", "5x1", "3x3"] {
         let dir = dir_for(&format!("window_{quilt}"), spec, backend);
         let plain = plain_screenshot(&dir, spec, backend);
-        injected(&dir, spec, backend, &["--output", "quilt", "--quilt", quilt]);
-        let cols = quilt.split('x').next().unwrap().parse::<u32>().unwrap();
+        let out = injected(&dir, spec, backend, &["--output", "quilt", "--quilt", quilt]);
+        // The run ends at the layer's --exit-after, before the app's count: each error is
+        // also printed as it happens.
+        assert!(
+            !stderr(&out).contains("gl-debug: error"),
+            "{spec} {backend} {quilt}: GL errors under the layer:\n{}",
+            stderr(&out)
+        );
+        let (cols, rows) = quilt.split_once('x').unwrap();
+        let (cols, rows) = (cols.parse::<u32>().unwrap(), rows.parse::<u32>().unwrap());
         let quilt_png = dir.join(format!("dump/f000003_qs{quilt}a1.3333.png"));
-        let centre = tile(&read_png(&quilt_png), cols, 1, cols / 2);
+        let centre = tile(&read_png(&quilt_png), cols, rows, cols * rows / 2);
         let what = format!("{spec} {backend} {quilt}");
         let at = dir.join("centre.png");
         save(&centre, &at);
@@ -47,6 +58,7 @@ window_format_tests! {
     multisampled_glx: "lines --samples 4", "glx";
     multisampled_egl: "lines --samples 4", "egl";
     multisampled_shaders_glx: "cubes --samples 4", "glx";
+    multisampled_es_egl: "gles --samples 4", "egl";
     srgb_writes_glx: "lines --srgb", "glx";
     no_alpha_glx: "lines --no-alpha", "glx";
     ten_bits_no_alpha_egl: "lines --no-alpha", "egl";

@@ -63,7 +63,7 @@ impl Lines {
         unsafe {
             let floor = texture(gl, 64, |x, y| {
                 let c = if (x / 8 + y / 8) % 2 == 0 { 200 } else { 60 };
-                [c, c, (c / 2) as u8 + noise(x + 64 * y) / 4, 255]
+                [c, c, c / 2 + noise(x + 64 * y) / 4, 255]
             });
             let n = hud_px * MINIFICATION;
             let hud = texture(gl, n, |x, y| {
