@@ -92,14 +92,16 @@ fn texture(gl: &Gl, format: GLenum, (w, h): (i32, i32)) -> u32 {
     t
 }
 
-/// A view of `color` (immutable storage in `format`) in the linear format of the same size.
-fn linear_view(gl: &Gl, color: u32, format: GLenum) -> u32 {
+/// A view of `color` (immutable storage in `format`) in the linear format of the same size
+/// (desktop GL 4.3; elsewhere our passes read an sRGB quilt decoded).
+fn linear_view(gl: &Gl, info: GlInfo, color: u32, format: GLenum) -> u32 {
     let linear = match format {
         SRGB8_ALPHA8 => RGBA8,
         SRGB8 => RGB8,
         _ => return color,
     };
-    if !gl.TextureView.is_loaded() {
+    // Loaders hand out entry points whatever the context (libglvnd): ask the version.
+    if info.es || !info.at_least(4, 3) || !gl.TextureView.is_loaded() {
         return color;
     }
     let mut view = 0;
@@ -173,7 +175,7 @@ impl QuiltTarget {
         let layout = layout.stored(window.flip_y);
         let size = (layout.width() as i32, layout.height() as i32);
         let color = texture(gl, color_format, size);
-        let sampled = linear_view(gl, color, color_format);
+        let sampled = linear_view(gl, info, color, color_format);
         let depth = renderbuffer(gl, samples, depth_format, size);
         let (msaa_color, resolved_depth) = if samples > 0 {
             (
