@@ -6,6 +6,7 @@ uniform sampler2D u_quilt;
 uniform ivec4 u_left;   // tile rectangle (x, y, w, h) of the left-eye view, in quilt texels
 uniform ivec4 u_right;
 uniform ivec2 u_out_size;
+uniform bool u_flipped; // the quilt's rows are stored top-down, as the window's are
 
 out vec4 frag_color;
 
@@ -19,7 +20,9 @@ const mat3 RIGHT = mat3(-0.043, 0.378, -0.072,
 vec3 fetch(ivec4 tile, vec2 uv)
 {
     ivec2 t = min(ivec2(uv * vec2(tile.zw)), tile.zw - 1);
-    return texelFetch(u_quilt, tile.xy + t, 0).rgb;
+    ivec2 p = tile.xy + t;
+    if (u_flipped) p.y = textureSize(u_quilt, 0).y - 1 - p.y;
+    return texelFetch(u_quilt, p, 0).rgb;
 }
 
 void main()

@@ -8,7 +8,9 @@
 //   view  = (invView ? 1 - f : f) * N
 // Classic panels: (dx, dy) = (slot * subp, 0), slot = ch with R and B swapped by flipSubp.
 // Gen3 panels: (dx, dy) = the offsets of colour ch in the pixel's sub-pixel cell.
-// The quilt is the GL texture (rows bottom-up): view k at column k % cols, row k / cols.
+// The quilt is the GL texture: view k at column k % cols, row k / cols from the bottom, except
+// that the layer draws the two views of u_swap in each other's tile, and stores the rows
+// top-down (as the window is stored) when u_flipped.
 // Output pixels are gl_FragCoord: the pass draws to a viewport at the origin of its target.
 
 const int MAX_CELLS = 16;
@@ -32,6 +34,8 @@ uniform int u_cell_count;   // 0: classic RGB stripe
 // Offsets in u, v units (pixels / screenW, / screenH); colour ch of cell c at [3 * c + ch].
 uniform vec2 u_cells[3 * MAX_CELLS];
 uniform ivec2 u_out_size;
+uniform bool u_flipped;
+uniform ivec2 u_swap;       // (-1, -1) when no two views trade places
 
 out vec4 frag_color;
 
@@ -66,8 +70,10 @@ float tap(int k, vec2 uv, int ch)
 {
     ivec2 tile = textureSize(u_quilt, 0) / ivec2(u_cols, u_rows);
     ivec2 t = min(ivec2(uv * vec2(tile)), tile - 1);
-    ivec2 origin = ivec2(k % u_cols, k / u_cols) * tile;
-    return texelFetch(u_quilt, origin + t, 0)[ch];
+    int cell = k == u_swap.x ? u_swap.y : (k == u_swap.y ? u_swap.x : k);
+    ivec2 p = ivec2(cell % u_cols, cell / u_cols) * tile + t;
+    if (u_flipped) p.y = textureSize(u_quilt, 0).y - 1 - p.y;
+    return texelFetch(u_quilt, p, 0)[ch];
 }
 
 float gaussian(float view, int k0, vec2 uv, int ch)

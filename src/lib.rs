@@ -35,10 +35,11 @@
 //! function for the thread's current context (`state::real_gl`), catches panics, and calls
 //! the handler (`hook::handlers::gl`), which takes the context's lock once and hands the
 //! app's state, the context's `Multiview` and its GL table to `multiview::replay::draw`. With
-//! framebuffer 0 bound (the quilt stands in for it), the draw is issued once per view: the
-//! viewport and scissor mapped into the view's tile, the view's shift set (the injected
-//! `holoinject_view` uniform, or a sheared `GL_PROJECTION` for fixed function), and the
-//! app's state put back after the last view. Into an app framebuffer that the main camera
+//! framebuffer 0 bound (the quilt stands in for it, made like the real one and, on Mesa,
+//! stored top-down as Mesa stores windows: `multiview::window_format`), the draw is issued
+//! once per view: the viewport and scissor mapped into the view's tile, the view's shift set
+//! (the injected `holoinject_view` uniform, or a sheared `GL_PROJECTION` for fixed
+//! function), and the app's state put back after the last view. Into an app framebuffer that the main camera
 //! draws into, the draw goes to each layer of its layered shadow instead. Each draw is also
 //! counted against its framebuffer when it is the main camera's, which is how
 //! auto-convergence knows where the scene's depth is (`multiview::scene`).
@@ -53,7 +54,8 @@
 //!
 //! ## The journey of one swap
 //! `glXSwapBuffers`/`eglSwapBuffers` (or `glFinish` for OSMesa) reach `hook::frame`: the
-//! frame is numbered, `output::Presenter` draws the quilt into the real framebuffer 0 as
+//! frame is numbered, a multisampled quilt is resolved (as the window resolves at its
+//! swap), `output::Presenter` draws the quilt into the real framebuffer 0 as
 //! `--output` asks (and dumps the quilt and weave), the presented image is dumped, the real
 //! swap runs, then `multiview` estimates auto-convergence from the scene's depth (copied from
 //! the centre view of the framebuffer the main camera draws into, before anything overwrote

@@ -52,6 +52,10 @@ fn multiview_frame(frame: u64, surface: usize, settings: &Settings) {
         };
         let (mv, presenter) = (&mut layer.views, &mut layer.presenter);
         crate::multiview::synthesis::end_frame(gl, mv, frame);
+        if let Some(t) = &mv.target {
+            // As the window resolves at its swap.
+            t.resolve_all(gl, mv.info, crate::gl::COLOR_BUFFER_BIT);
+        }
         if let Err(e) = presenter.present(gl, mv, window, settings.view.output) {
             log::once(&COMPOSE_FAILED, Level::Error, format_args!("{e}"));
         }

@@ -11,7 +11,12 @@ use crate::state::AppState;
 /// the app has framebuffer 0 bound.
 pub fn ensure_target(gl: &Gl, app: &AppState, mv: &mut Multiview, window: (u32, u32)) {
     let wanted = QuiltLayout::new(mv.settings.quilt, mv.settings.tile, window);
-    if mv.target.as_ref().is_some_and(|t| t.layout == wanted) || mv.failed {
+    if mv
+        .target
+        .as_ref()
+        .is_some_and(|t| t.layout == wanted.stored(t.layout.flipped))
+        || mv.failed
+    {
         return;
     }
     if let Some(old) = mv.target.take() {
@@ -29,6 +34,16 @@ pub fn ensure_target(gl: &Gl, app: &AppState, mv: &mut Multiview, window: (u32, 
                 wanted.height(),
                 window.0,
                 window.1
+            ));
+            crate::log::info(format_args!(
+                "quilt made like the window ({:?}): colour {:#x}, stored {}",
+                t.window,
+                t.color_format,
+                if t.layout.flipped {
+                    "top-down as the window is"
+                } else {
+                    "bottom-up"
+                },
             ));
             mv.target = Some(t);
             mv.update_rig(wanted);
@@ -73,7 +88,8 @@ pub fn hand_back(gl: &Gl, mv: &Multiview) {
         if let Some(t) = mv.target.as_ref() {
             let [x, y, w, h] = t.layout.tile_rect(centre);
             let (ww, wh) = (t.layout.window_w as i32, t.layout.window_h as i32);
-            gl.BindFramebuffer(READ_FRAMEBUFFER, t.fbo);
+            t.resolve(gl, mv.info, [x, y, w, h], ALL_BUFFERS);
+            gl.BindFramebuffer(READ_FRAMEBUFFER, t.resolved_fbo);
             gl.BindFramebuffer(DRAW_FRAMEBUFFER, 0);
             gl.ReadBuffer(COLOR_ATTACHMENT0);
             let filter = if (w, h) == (ww, wh) { NEAREST } else { LINEAR };
@@ -96,7 +112,7 @@ fn hand_back_depth(gl: &Gl, info: crate::gl::GlInfo, t: &QuiltTarget, tile: [i32
     use crate::gl::depth_write;
     let [x, y, w, h] = tile;
     let formats = (
-        depth_write::depth_format(gl, info, t.fbo),
+        depth_write::depth_format(gl, info, t.resolved_fbo),
         depth_write::depth_format(gl, info, 0),
     );
     let (Some(quilt), Some(window)) = formats else {
@@ -111,14 +127,15 @@ fn hand_back_depth(gl: &Gl, info: crate::gl::GlInfo, t: &QuiltTarget, tile: [i32
     crate::log::info(format_args!(
         "hand-back: the window's depth ({window:?}) is not the quilt's ({quilt:?}): depth copied by a pass, stencil not handed back"
     ));
-    let copied = crate::gl::depth_copy::describe(gl, info, t.fbo).and_then(|source| {
+    let read = t.resolved_fbo;
+    let copied = crate::gl::depth_copy::describe(gl, info, read).and_then(|source| {
         let mut copy = crate::gl::depth_copy::DepthCopy::default();
         let restore = crate::gl::depth_copy::Restore {
             draw_fbo: 0,
-            read_fbo: t.fbo,
+            read_fbo: read,
             scissor: false,
         };
-        copy.take(gl, info, (t.fbo, source), tile, restore);
+        copy.take(gl, info, (read, source), tile, restore);
         let (texture, rect) = copy.copied();
         let drawn = depth_write::draw(gl, info, texture, rect, 0, [0, 0, ww, wh]);
         copy.delete(gl);
@@ -128,6 +145,8 @@ fn hand_back_depth(gl: &Gl, info: crate::gl::GlInfo, t: &QuiltTarget, tile: [i32
         crate::log::info(format_args!("hand-back: window depth not written: {e}"));
     }
 }
+
+const ALL_BUFFERS: u32 = COLOR_BUFFER_BIT | DEPTH_BUFFER_BIT | STENCIL_BUFFER_BIT;
 
 /// `glBindFramebuffer(target, fbo)`: records the app's binding; returns the name GL gets.
 pub fn bind(mv: &Multiview, fbo: u32) -> u32 {
@@ -260,10 +279,38 @@ pub fn clear(gl: &Gl, app: &mut AppState, mv: &mut Multiview, f: impl Fn()) {
     unsafe { gl.Scissor(s[0], s[1], s[2], s[3]) };
 }
 
-/// Source rectangle of a read from framebuffer 0: the centre view's tile.
-pub fn centre_rect(app: &AppState, mv: &Multiview, r: [i32; 4]) -> Option<[i32; 4]> {
-    let layout = mv.layout().filter(|_| app.read_fbo == 0 && mv.quilt_fbo().is_some())?;
-    Some(layout.map_rect(mv.camera.rig.centre(), r))
+/// Source rectangle of a read from framebuffer 0: the centre view's tile. A multisampled
+/// quilt cannot be read (a multisampled window can: GL resolves it first), so that rectangle
+/// is resolved and its resolved framebuffer bound for reading; `true` then in the answer:
+/// the caller rebinds (`rebind`) after the read.
+pub fn centre_rect(gl: &Gl, app: &AppState, mv: &Multiview, r: [i32; 4]) -> Option<([i32; 4], bool)> {
+    let target = mv
+        .target
+        .as_ref()
+        .filter(|_| app.read_fbo == 0 && mv.quilt_fbo().is_some())?;
+    let rect = target.layout.map_rect(mv.camera.rig.centre(), r);
+    if target.samples == 0 {
+        return Some((rect, false));
+    }
+    target.resolve(gl, mv.info, rect, ALL_BUFFERS);
+    // SAFETY: our resolved quilt for reading.
+    unsafe { gl.BindFramebuffer(READ_FRAMEBUFFER, target.resolved_fbo) };
+    Some((rect, true))
+}
+
+/// For a blit from framebuffer 0: a multisampled quilt is read resolved when its tiles are
+/// scaled (blits from multisampled buffers cannot scale, and the window's would not have
+/// to), and on ES, where they cannot move either (a tile is not where the window's pixels
+/// are); the caller rebinds.
+fn resolved_blit_source(gl: &Gl, app: &AppState, mv: &Multiview) {
+    let Some(t) = mv.target.as_ref().filter(|t| app.read_fbo == 0 && t.samples > 0) else {
+        return;
+    };
+    if !t.layout.unscaled() || mv.info.es {
+        t.resolve_all(gl, mv.info, ALL_BUFFERS);
+        // SAFETY: our resolved quilt for reading.
+        unsafe { gl.BindFramebuffer(READ_FRAMEBUFFER, t.resolved_fbo) };
+    }
 }
 
 /// `glBlitFramebuffer` between framebuffer 0 (tiles) and the app's framebuffers (layers when
@@ -282,6 +329,7 @@ pub fn blit(gl: &Gl, app: &AppState, mv: &mut Multiview, src: [i32; 4], dst: [i3
         (_, Some(_)) => super::layers::ensure_shadow(gl, mv, draw, "a view-dependent framebuffer is blitted into it"),
         (_, None) => super::layers::current_views(gl, mv, draw),
     };
+    resolved_blit_source(gl, app, mv);
     let per_view = draw == 0 || src_layers.is_some() || dst_layers.is_some();
     if draw == 0 && mv.plan.before_default_draw(src_layers.is_some() || read == 0) {
         super::synthesis::warp(gl, mv);
@@ -292,7 +340,8 @@ pub fn blit(gl: &Gl, app: &AppState, mv: &mut Multiview, src: [i32; 4], dst: [i3
         } else {
             src
         };
-        return f(s, dst);
+        f(s, dst);
+        return rebind(gl, app, mv);
     }
     for i in 0..layout.views() {
         let drawn = if draw == 0 {

@@ -1,6 +1,15 @@
 //! Where each view lives in the quilt (DESIGN §4): view `i` at column `i mod C`, row
 //! `floor(i/C)` counted from the bottom (GL origin), and how the app's window coordinates map
 //! into a tile.
+//!
+//! One exception while the layer draws: the centre view trades places with the view whose
+//! tile starts at the quilt's storage origin (the top-left tile when the quilt is stored
+//! top-down like a window, else the bottom-left one), so that the centre view is drawn at
+//! the very pixel addresses the window has. Rasterisers snap vertices and interpolate from
+//! the framebuffer's origin in floating point, so the same draw offset by a tile rounds
+//! differently (llvmpipe, 3,000 smooth lines one tile right and up: 5,762 of 307,200 pixels
+//! differ, 39 by more than one level). Whatever reads the quilt as a whole (dumps, the
+//! weave, the quilt output) puts the two back (`swapped`).
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct QuiltLayout {
@@ -11,6 +20,8 @@ pub struct QuiltLayout {
     /// The app's default framebuffer, whose coordinates the app draws in.
     pub window_w: u32,
     pub window_h: u32,
+    /// The quilt's framebuffer stores rows top-down, as the window is stored.
+    pub flipped: bool,
 }
 
 /// Largest quilt edge we allocate when the tile size is derived from the window.
@@ -46,7 +57,41 @@ impl QuiltLayout {
             tile_h,
             window_w: window.0.max(1),
             window_h: window.1.max(1),
+            flipped: false,
         }
+    }
+
+    /// This layout in a framebuffer stored top-down (`flipped`) or bottom-up.
+    pub fn stored(self, flipped: bool) -> QuiltLayout {
+        QuiltLayout { flipped, ..self }
+    }
+
+    /// The view the app's own frame is compared with (the camera rig's centre).
+    pub fn centre(&self) -> u32 {
+        self.views() / 2
+    }
+
+    /// The two views whose tiles trade places (see the module notes), if they differ.
+    pub fn swapped(&self) -> Option<(u32, u32)> {
+        let first = if self.flipped { (self.rows - 1) * self.cols } else { 0 };
+        (first != self.centre()).then_some((self.centre(), first))
+    }
+
+    /// Where view `i` is drawn: the grid cell (numbered like views) holding its tile.
+    pub fn cell(&self, i: u32) -> u32 {
+        match self.swapped() {
+            Some((a, b)) if i == a => b,
+            Some((a, b)) if i == b => a,
+            _ => i,
+        }
+    }
+
+    /// Lower-left corner of grid cell `cell`, as DESIGN §4 places view `cell`.
+    pub fn cell_origin(&self, cell: u32) -> (i32, i32) {
+        (
+            ((cell % self.cols) * self.tile_w) as i32,
+            ((cell / self.cols) * self.tile_h) as i32,
+        )
     }
 
     pub fn views(&self) -> u32 {
@@ -61,12 +106,9 @@ impl QuiltLayout {
         self.rows * self.tile_h
     }
 
-    /// Lower-left corner of view `i`'s tile.
+    /// Lower-left corner of view `i`'s tile, where it is drawn.
     pub fn origin(&self, i: u32) -> (i32, i32) {
-        (
-            ((i % self.cols) * self.tile_w) as i32,
-            ((i / self.cols) * self.tile_h) as i32,
-        )
+        self.cell_origin(self.cell(i))
     }
 
     /// True when tiles are the window's size, so window pixels map 1:1 into tiles.
@@ -122,9 +164,9 @@ mod tests {
     #[test]
     fn views_fill_rows_from_the_bottom() {
         let l = QuiltLayout::new((3, 2), Some((100, 50)), (200, 100));
-        assert_eq!(l.origin(0), (0, 0));
-        assert_eq!(l.origin(2), (200, 0));
-        assert_eq!(l.origin(3), (0, 50));
+        assert_eq!(l.cell_origin(0), (0, 0));
+        assert_eq!(l.cell_origin(2), (200, 0));
+        assert_eq!(l.cell_origin(3), (0, 50));
         assert_eq!((l.width(), l.height()), (300, 100));
     }
 
@@ -132,7 +174,7 @@ mod tests {
     fn window_rects_scale_into_tiles() {
         let l = QuiltLayout::new((3, 2), Some((100, 50)), (200, 100));
         assert_eq!(l.map_rect(4, [0, 0, 200, 100]), [100, 50, 100, 50]);
-        assert_eq!(l.map_rect(0, [20, 10, 40, 20]), [10, 5, 20, 10]);
+        assert_eq!(l.map_rect(1, [20, 10, 40, 20]), [110, 5, 20, 10]);
     }
 
     #[test]
@@ -150,6 +192,22 @@ mod tests {
             QuiltLayout::new((8, 6), Some((420, 560)), (420, 560)).aspect_label(),
             "0.75"
         );
+    }
+
+    #[test]
+    fn the_centre_view_is_drawn_at_the_storage_origin() {
+        let l = QuiltLayout::new((3, 2), Some((100, 50)), (200, 100));
+        assert_eq!(l.swapped(), Some((3, 0)));
+        assert_eq!((l.origin(3), l.origin(0), l.origin(1)), ((0, 0), (0, 50), (100, 0)));
+        let top_down = l.stored(true);
+        assert_eq!(top_down.swapped(), None);
+        assert_eq!(top_down.origin(3), (0, 50));
+        let wide = QuiltLayout::new((5, 1), None, (64, 48)).stored(true);
+        assert_eq!(
+            (wide.swapped(), wide.origin(2), wide.origin(0)),
+            (Some((2, 0)), (0, 0), (128, 0))
+        );
+        assert_eq!(QuiltLayout::new((1, 1), None, (64, 48)).swapped(), None);
     }
 
     #[test]

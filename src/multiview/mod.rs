@@ -37,6 +37,7 @@ pub mod shift;
 pub mod synthesis;
 pub mod target;
 pub mod ubo;
+pub mod window_format;
 
 use crate::camera::CameraEstimate;
 use crate::config::ViewSettings;
@@ -157,7 +158,13 @@ impl Multiview {
         let mut o = LayerObjects::default();
         if let Some(t) = &self.target {
             o.textures.push(t.color);
-            o.renderbuffers.push(t.depth);
+            if t.sampled != t.color {
+                o.textures.push(t.sampled);
+            }
+            o.renderbuffers.extend([t.depth, t.msaa_color]);
+            if t.resolved_depth != t.depth {
+                o.renderbuffers.push(t.resolved_depth);
+            }
         }
         for image in self.images.values() {
             o.textures.extend(image.textures());

@@ -4,6 +4,7 @@
 //! starts from exactly where it left off.
 
 use super::Presenter;
+use super::staging::Staging;
 use crate::config::Output;
 use crate::gl::guard::StateGuard;
 use crate::gl::*;
@@ -16,6 +17,16 @@ fn fit(w: u32, h: u32, win_w: u32, win_h: u32) -> [i32; 4] {
     let (fw, fh) = ((w as f64 * scale).round() as i32, (h as f64 * scale).round() as i32);
     let (x0, y0) = ((win_w as i32 - fw) / 2, (win_h as i32 - fh) / 2);
     [x0, y0, x0 + fw, y0 + fh]
+}
+
+/// Where a tile at quilt position `origin` lands when the whole quilt is drawn into `to`
+/// (corners), rounded as the edges of the whole are.
+fn tile_in(layout: QuiltLayout, origin: (i32, i32), to: [i32; 4]) -> [i32; 4] {
+    let (qw, qh) = (layout.width() as f64, layout.height() as f64);
+    let x = |q: i32| to[0] + (q as f64 * (to[2] - to[0]) as f64 / qw).round() as i32;
+    let y = |q: i32| to[1] + (q as f64 * (to[3] - to[1]) as f64 / qh).round() as i32;
+    let (w, h) = (layout.tile_w as i32, layout.tile_h as i32);
+    [x(origin.0), y(origin.1), x(origin.0 + w), y(origin.1 + h)]
 }
 
 fn corners(r: [i32; 4]) -> [i32; 4] {
@@ -69,14 +80,21 @@ pub fn present(
     output: Output,
 ) -> Result<(), String> {
     let target = mv.target.as_ref().ok_or("no quilt")?;
-    let (layout, quilt_fbo, quilt_tex): (QuiltLayout, u32, u32) = (target.layout, target.fbo, target.color);
+    let (layout, quilt_fbo, quilt_tex): (QuiltLayout, u32, u32) = (target.layout, target.resolved_fbo, target.sampled);
     let _guard = StateGuard::new(gl, mv.info).framebuffers().for_pass();
     crate::output::pass::neutral_state(gl, mv.info);
-    // SAFETY: our quilt as the read source, the real default framebuffer as destination.
+    let staged = target.window.samples > 0;
+    let out_fbo = if staged {
+        Staging::ensure(gl, &mut presenter.staging, window, target.color_format)
+    } else {
+        0
+    };
+    // SAFETY: our quilt as the read source, the real default framebuffer (or what stands in
+    // for a multisampled one) as destination.
     unsafe {
         gl.Disable(SCISSOR_TEST);
         gl.BindFramebuffer(READ_FRAMEBUFFER, quilt_fbo);
-        gl.BindFramebuffer(DRAW_FRAMEBUFFER, 0);
+        gl.BindFramebuffer(DRAW_FRAMEBUFFER, out_fbo);
         gl.ReadBuffer(COLOR_ATTACHMENT0);
     }
     let win = [0, 0, window.0 as i32, window.1 as i32];
@@ -84,12 +102,13 @@ pub fn present(
         Output::Mono => blit(gl, corners(layout.tile_rect(mv.camera.rig.centre())), win, LINEAR),
         Output::Quilt => {
             clear_window(gl);
-            blit(
-                gl,
-                [0, 0, layout.width() as i32, layout.height() as i32],
-                fit(layout.width(), layout.height(), window.0, window.1),
-                LINEAR,
-            );
+            let to = fit(layout.width(), layout.height(), window.0, window.1);
+            blit(gl, [0, 0, layout.width() as i32, layout.height() as i32], to, LINEAR);
+            // The two views drawn in each other's place go back to their own.
+            for view in layout.swapped().map_or(vec![], |(a, b)| vec![a, b]) {
+                let cell = tile_in(layout, layout.cell_origin(view), to);
+                blit(gl, corners(layout.tile_rect(view)), cell, LINEAR);
+            }
         }
         Output::SideBySide => {
             let (l, r) = stereo_pair(layout.views());
@@ -103,6 +122,7 @@ pub fn present(
             let input = crate::output::native::WeaveInput {
                 device: &device,
                 quilt_texture: quilt_tex,
+                layout,
                 views: layout.views(),
                 grid: (layout.cols, layout.rows),
                 filter: mv.settings.weave_filter,
@@ -112,7 +132,7 @@ pub fn present(
             // SAFETY: the woven image to the window, fitted.
             unsafe {
                 gl.BindFramebuffer(READ_FRAMEBUFFER, fbo);
-                gl.BindFramebuffer(DRAW_FRAMEBUFFER, 0);
+                gl.BindFramebuffer(DRAW_FRAMEBUFFER, out_fbo);
             }
             clear_window(gl);
             let filter = if size == window { NEAREST } else { LINEAR };
@@ -123,6 +143,11 @@ pub fn present(
                 filter,
             );
         }
+    }
+    if let Some(s) = presenter.staging.as_ref().filter(|_| staged) {
+        // SAFETY: the real default framebuffer as destination; restored by the guard.
+        unsafe { gl.BindFramebuffer(DRAW_FRAMEBUFFER, 0) };
+        s.show(gl, mv.info, &mut presenter.passes)?;
     }
     Ok(())
 }
@@ -151,6 +176,7 @@ fn anaglyph(
         gl.Uniform4i(u("u_left"), tl[0], tl[1], tl[2], tl[3]);
         gl.Uniform4i(u("u_right"), tr[0], tr[1], tr[2], tr[3]);
         gl.Uniform2i(u("u_out_size"), window.0 as i32, window.1 as i32);
+        gl.Uniform1i(u("u_flipped"), layout.flipped as i32);
     }
     presenter.passes.draw(gl);
     Ok(())
@@ -164,6 +190,13 @@ mod tests {
     fn letterbox_keeps_aspect() {
         assert_eq!(fit(200, 100, 100, 100), [0, 25, 100, 75]);
         assert_eq!(fit(100, 100, 200, 100), [50, 0, 150, 100]);
+    }
+
+    #[test]
+    fn tiles_land_inside_the_fitted_quilt() {
+        let l = QuiltLayout::new((5, 1), None, (64, 48));
+        assert_eq!(tile_in(l, l.cell_origin(2), [0, 0, 160, 24]), [64, 0, 96, 24]);
+        assert_eq!(tile_in(l, l.cell_origin(4), [10, 5, 170, 29]), [138, 5, 170, 29]);
     }
 
     #[test]

@@ -30,15 +30,32 @@ pub fn quilt(
     let target = mv.target.as_ref().ok_or("no quilt")?;
     let l = target.layout;
     let (w, h) = (l.width(), l.height());
-    let rgba = readback::read_rgba(
+    let mut rgba = readback::read_rgba(
         gl,
         mv.info,
-        readback::Source::Fbo(target.fbo),
+        readback::Source::Fbo(target.resolved_fbo),
         [0, 0, w as i32, h as i32],
     )?;
+    if let Some((a, b)) = l.swapped() {
+        swap_tiles(&mut rgba, l, a, b);
+    }
     let rgb = super::png::rgba_bottom_up_to_rgb_top_down(&rgba, w, h);
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     super::png::write_rgb(&dir.join(format!("f{frame:06}_{}.png", l.file_tag())), w, h, &rgb)
+}
+
+/// Exchanges the tiles of grid cells `a` and `b` in a bottom-up RGBA8 image of the quilt: the
+/// layer draws views `a` and `b` in each other's cell (`QuiltLayout::swapped`).
+fn swap_tiles(rgba: &mut [u8], l: crate::multiview::layout::QuiltLayout, a: u32, b: u32) {
+    let ((ax, ay), (bx, by)) = (l.cell_origin(a), l.cell_origin(b));
+    let (stride, row) = (l.width() as usize * 4, l.tile_w as usize * 4);
+    for y in 0..l.tile_h as usize {
+        let pa = (ay as usize + y) * stride + ax as usize * 4;
+        let pb = (by as usize + y) * stride + bx as usize * 4;
+        let (lo, hi) = (pa.min(pb), pa.max(pb));
+        let (first, second) = rgba.split_at_mut(hi);
+        first[lo..lo + row].swap_with_slice(&mut second[..row]);
+    }
 }
 
 /// `DIR/f{frame:06}_native.png`: the lenticular image at the display's native resolution.
@@ -56,4 +73,20 @@ pub fn native(
     let rgba = readback::read_rgba(gl, info, readback::Source::Fbo(t.fbo), [0, 0, w as i32, h as i32])?;
     let rgb = super::png::rgba_bottom_up_to_rgb_top_down(&rgba, w, h);
     super::png::write_rgb(&dir.join(format!("f{frame:06}_native.png")), w, h, &rgb)
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::multiview::layout::QuiltLayout;
+
+    #[test]
+    fn swapped_tiles_go_back() {
+        // 3x1 quilt of 2x1 tiles, one byte per channel naming the view drawn there.
+        let l = QuiltLayout::new((3, 1), None, (2, 1));
+        let mut rgba: Vec<u8> = [1u8, 1, 0, 0, 2, 2].iter().flat_map(|&v| [v; 4]).collect();
+        let (a, b) = l.swapped().unwrap();
+        super::swap_tiles(&mut rgba, l, a, b);
+        let conventional: Vec<u8> = [0u8, 0, 1, 1, 2, 2].iter().flat_map(|&v| [v; 4]).collect();
+        assert_eq!(rgba, conventional);
+    }
 }

@@ -9,6 +9,7 @@ pub mod dump;
 pub mod native;
 pub mod pass;
 pub mod png;
+pub mod staging;
 pub mod timing;
 pub mod weave;
 
@@ -22,6 +23,8 @@ use crate::state::orphans::LayerObjects;
 pub struct Presenter {
     pub passes: pass::Passes,
     pub native: Option<native::NativeTarget>,
+    /// What a multisampled window's output is drawn into first.
+    pub staging: Option<staging::Staging>,
 }
 
 impl Presenter {
@@ -54,6 +57,7 @@ impl Presenter {
     pub fn shared_objects(&self) -> LayerObjects {
         let mut o = LayerObjects::default();
         o.textures.extend(self.native.as_ref().map(|n| n.color));
+        o.textures.extend(self.staging.as_ref().map(|s| s.color));
         o.programs.extend(self.passes.programs());
         o.without_zeros()
     }

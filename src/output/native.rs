@@ -8,6 +8,7 @@ use super::weave::Filter;
 use crate::config::device::Device;
 use crate::gl::GlInfo;
 use crate::gl::*;
+use crate::multiview::layout::QuiltLayout;
 
 /// The native-resolution target, created on first use per context.
 pub struct NativeTarget {
@@ -74,6 +75,8 @@ fn set_uniforms(
 pub struct WeaveInput<'a> {
     pub device: &'a Device,
     pub quilt_texture: u32,
+    /// Where the views are drawn in the texture.
+    pub layout: QuiltLayout,
     pub views: u32,
     pub grid: (u32, u32),
     pub filter: Filter,
@@ -107,6 +110,12 @@ pub fn weave<'t>(
         gl.BindTexture(TEXTURE_2D, input.quilt_texture);
     }
     set_uniforms(gl, program, input.device, input.views, input.grid, input.filter, size);
+    let (a, b) = input.layout.swapped().map_or((-1, -1), |(a, b)| (a as i32, b as i32));
+    // SAFETY: uniforms of our own bound program.
+    unsafe {
+        gl.Uniform1i(pass::uniform(gl, program, "u_flipped"), input.layout.flipped as i32);
+        gl.Uniform2i(pass::uniform(gl, program, "u_swap"), a, b);
+    }
     passes.draw(gl);
     Ok(t)
 }

@@ -58,6 +58,11 @@ pub struct Options {
     pub timing: bool,
     /// Count GL errors through KHR_debug and print the count at exit.
     pub debug_output: bool,
+    /// The default framebuffer's samples per pixel and alpha bits.
+    pub samples: i32,
+    pub alpha: bool,
+    /// Draw with `GL_FRAMEBUFFER_SRGB` enabled (desktop GL).
+    pub srgb: bool,
 }
 
 impl Options {
@@ -105,7 +110,10 @@ pub fn usage(app: &AppInfo) -> String {
                                 raw f32 depth of the reference quilt, as --depth-out\n\
          --bench-quilt          render the reference quilt every frame (benchmark; implies --timing)\n\
          --timing               print the median frame time to stderr at exit\n\
-         --debug-output         count GL errors via KHR_debug; print `gl-debug: errors=N` at exit\n",
+         --debug-output         count GL errors via KHR_debug; print `gl-debug: errors=N` at exit\n\
+         --samples N            multisampled default framebuffer, N samples (glx, egl, egl-x11)\n\
+         --no-alpha             default framebuffer without alpha bits (glx, egl, egl-x11)\n\
+         --srgb                 draw with GL_FRAMEBUFFER_SRGB enabled (desktop GL)\n",
         name = app.name,
         about = app.about,
         conv = app.default_convergence
@@ -143,6 +151,9 @@ pub fn parse(args: &[String], app: &AppInfo) -> Result<Option<Options>, String> 
         bench_quilt: false,
         timing: false,
         debug_output: false,
+        samples: 0,
+        alpha: true,
+        srgb: false,
     };
     let mut tile = None;
     let mut it = args.iter();
@@ -153,6 +164,11 @@ pub fn parse(args: &[String], app: &AppInfo) -> Result<Option<Options>, String> 
         }
         if flag == "--debug-output" {
             o.debug_output = true;
+            continue;
+        }
+        if flag == "--no-alpha" || flag == "--srgb" {
+            o.alpha &= flag != "--no-alpha";
+            o.srgb |= flag == "--srgb";
             continue;
         }
         if flag == "--bench-quilt" || flag == "--timing" {
@@ -169,6 +185,7 @@ pub fn parse(args: &[String], app: &AppInfo) -> Result<Option<Options>, String> 
             "--backend" => o.backend = Backend::parse(val)?,
             "--size" => o.size = parse_pair(flag, val)?,
             "--frames" => o.frames = parse_num(flag, val)?,
+            "--samples" => o.samples = parse_num(flag, val)?,
             "--screenshot" => o.screenshot = Some(val.into()),
             "--depth-out" => o.depth_out = Some(val.into()),
             "--reference-quilt" => o.quilt = Some(parse_pair(flag, val)?),

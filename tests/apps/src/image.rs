@@ -43,14 +43,51 @@ pub fn is_es(gl: &Gl) -> bool {
 pub fn read_default_framebuffer(gl: &Gl, w: u32, h: u32) -> Vec<u8> {
     unsafe {
         gl.BindFramebuffer(gl::FRAMEBUFFER, 0);
-        if is_es(gl) {
-            return read_rgb(gl, w, h);
+        if !is_es(gl) {
+            let mut buf = 0;
+            gl.GetIntegerv(gl::DRAW_BUFFER, &mut buf);
+            gl.ReadBuffer(buf as u32);
         }
-        let mut buf = 0;
-        gl.GetIntegerv(gl::DRAW_BUFFER, &mut buf);
-        gl.ReadBuffer(buf as u32);
+        let mut samples = 0;
+        gl.GetIntegerv(gl::SAMPLE_BUFFERS, &mut samples);
+        if samples > 0 {
+            return read_resolved(gl, w, h);
+        }
     }
     read_rgb(gl, w, h)
+}
+
+/// A multisampled default framebuffer as it is shown: resolved by a blit (Mesa's
+/// glReadPixels of it returns each pixel's first sample instead).
+unsafe fn read_resolved(gl: &Gl, w: u32, h: u32) -> Vec<u8> {
+    let (mut fbo, mut rb) = (0, 0);
+    let (wi, hi) = (w as i32, h as i32);
+    unsafe {
+        gl.GenRenderbuffers(1, &mut rb);
+        gl.BindRenderbuffer(gl::RENDERBUFFER, rb);
+        gl.RenderbufferStorage(gl::RENDERBUFFER, gl::RGBA8, wi, hi);
+        gl.GenFramebuffers(1, &mut fbo);
+        gl.BindFramebuffer(gl::DRAW_FRAMEBUFFER, fbo);
+        gl.FramebufferRenderbuffer(gl::DRAW_FRAMEBUFFER, gl::COLOR_ATTACHMENT0, gl::RENDERBUFFER, rb);
+        // The stored values, neither scissored nor converted.
+        let caps = if is_es(gl) {
+            &[gl::SCISSOR_TEST][..]
+        } else {
+            &[gl::SCISSOR_TEST, gl::FRAMEBUFFER_SRGB]
+        };
+        let on: Vec<bool> = caps.iter().map(|&c| gl.IsEnabled(c) != 0).collect();
+        caps.iter().for_each(|&c| gl.Disable(c));
+        gl.BlitFramebuffer(0, 0, wi, hi, 0, 0, wi, hi, gl::COLOR_BUFFER_BIT, gl::NEAREST);
+        for (&c, _) in caps.iter().zip(&on).filter(|(_, on)| **on) {
+            gl.Enable(c);
+        }
+        gl.BindFramebuffer(gl::FRAMEBUFFER, fbo);
+        let rgb = read_rgb(gl, w, h);
+        gl.BindFramebuffer(gl::FRAMEBUFFER, 0);
+        gl.DeleteFramebuffers(1, &fbo);
+        gl.DeleteRenderbuffers(1, &rb);
+        rgb
+    }
 }
 
 /// OpenGL ES cannot read GL_DEPTH_COMPONENT with glReadPixels (checked at start-up, so the

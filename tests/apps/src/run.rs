@@ -101,8 +101,18 @@ fn check_gl_error(gl: &Gl, when: &str) {
 }
 
 fn run(o: &Options, profile: Profile, make: Box<MakeScene>) -> Result<(), String> {
-    let mut plat = platform::create(o.backend, o.size, profile)?;
+    let config = platform::WindowConfig {
+        samples: o.samples,
+        alpha: o.alpha,
+    };
+    let mut plat = platform::create_with(o.backend, o.size, profile, config)?;
     let gl = load_gl(plat.as_ref())?;
+    if o.srgb {
+        if profile.is_es() {
+            return Err("--srgb needs desktop GL".into());
+        }
+        unsafe { gl.Enable(gl::FRAMEBUFFER_SRGB) };
+    }
     if o.debug_output {
         crate::debug_output::enable(&gl)?;
     }

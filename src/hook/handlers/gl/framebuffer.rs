@@ -142,8 +142,13 @@ fn centre_read(rect: [i32; 4], read: impl Fn([i32; 4])) {
         if fb::read_centre_layer(gl, app, mv) {
             read(rect);
             fb::rebind(gl, app, mv);
+        } else if let Some((centre, rebind)) = fb::centre_rect(gl, app, mv, rect) {
+            read(centre);
+            if rebind {
+                fb::rebind(gl, app, mv);
+            }
         } else {
-            read(fb::centre_rect(app, mv, rect).unwrap_or(rect));
+            read(rect);
         }
     });
     if done.is_none() {

@@ -2,7 +2,7 @@
 //! GLFW do it, so the layer must catch it through dlsym/eglGetProcAddress
 //! rather than through link-time symbols.
 use super::x11win::{XWindow, open_display};
-use super::{Platform, Profile};
+use super::{Platform, Profile, WindowConfig};
 use libloading::os::unix::{Library, RTLD_LOCAL, RTLD_NOW};
 use std::ffi::{CString, c_char, c_void};
 use std::ptr;
@@ -19,6 +19,9 @@ const EGL_OPENGL_BIT: EglInt = 0x8;
 const EGL_OPENGL_ES2_BIT: EglInt = 0x4;
 const EGL_OPENGL_ES3_BIT: EglInt = 0x40;
 const EGL_NATIVE_VISUAL_ID: EglInt = 0x302E;
+const EGL_ALPHA_SIZE: EglInt = 0x3021;
+const EGL_SAMPLES: EglInt = 0x3031;
+const EGL_SAMPLE_BUFFERS: EglInt = 0x3032;
 const EGL_WIDTH: EglInt = 0x3057;
 const EGL_HEIGHT: EglInt = 0x3056;
 const EGL_OPENGL_API: u32 = 0x30A2;
@@ -150,7 +153,7 @@ fn context_attribs(profile: Profile) -> [EglInt; 7] {
 
 impl Egl {
     /// Surfaceless Mesa platform + pbuffer: needs no X server at all.
-    pub fn new_headless(size: (u32, u32), profile: Profile) -> Result<Self, String> {
+    pub fn new_headless(size: (u32, u32), profile: Profile, config: WindowConfig) -> Result<Self, String> {
         let api = Api::load()?;
         let dpy = api.platform_display(EGL_PLATFORM_SURFACELESS_MESA, ptr::null_mut())?;
         let mut e = Egl {
@@ -162,7 +165,7 @@ impl Egl {
             kind: "egl (surfaceless pbuffer)",
             win: None,
         };
-        let cfg = e.init(EGL_PBUFFER_BIT, profile)?;
+        let cfg = e.init(EGL_PBUFFER_BIT, profile, config)?;
         let attrs = [EGL_WIDTH, size.0 as EglInt, EGL_HEIGHT, size.1 as EglInt, EGL_NONE];
         e.surface = unsafe { (e.api.create_pbuffer)(e.dpy, cfg, attrs.as_ptr()) };
         if e.surface.is_null() {
@@ -172,7 +175,7 @@ impl Egl {
         Ok(e)
     }
 
-    pub fn new_x11(size: (u32, u32), profile: Profile) -> Result<Self, String> {
+    pub fn new_x11(size: (u32, u32), profile: Profile, config: WindowConfig) -> Result<Self, String> {
         let api = Api::load()?;
         let xdpy = open_display()?;
         let dpy = api.platform_display(EGL_PLATFORM_X11_KHR, xdpy.cast())?;
@@ -185,7 +188,7 @@ impl Egl {
             kind: "egl-x11",
             win: None,
         };
-        let cfg = e.init(EGL_WINDOW_BIT, profile)?;
+        let cfg = e.init(EGL_WINDOW_BIT, profile, config)?;
         let win = unsafe { x_window_for(&e.api, dpy, cfg, xdpy, size)? };
         e.surface = unsafe { (e.api.create_window_surface)(e.dpy, cfg, win.win as usize, [EGL_NONE].as_ptr()) };
         e.win = Some(win);
@@ -196,8 +199,8 @@ impl Egl {
         Ok(e)
     }
 
-    fn init(&mut self, surface_type: EglInt, profile: Profile) -> Result<Ptr, String> {
-        init_display(&self.api, self.dpy, surface_type, profile)
+    fn init(&mut self, surface_type: EglInt, profile: Profile, config: WindowConfig) -> Result<Ptr, String> {
+        init_display(&self.api, self.dpy, surface_type, profile, config)
     }
 
     fn make_context(&mut self, cfg: Ptr, profile: Profile) -> Result<(), String> {
@@ -215,9 +218,17 @@ impl Egl {
     }
 }
 
-/// eglInitialize, eglBindAPI (for the calling thread) and an RGBA8/D24/S8 config.
-fn init_display(a: &Api, dpy: Ptr, surface_type: EglInt, profile: Profile) -> Result<Ptr, String> {
+/// eglInitialize, eglBindAPI (for the calling thread) and an RGB(A)8/D24/S8 config with
+/// exactly the alpha bits and samples asked (EGL sorts deeper colour buffers first).
+fn init_display(
+    a: &Api,
+    dpy: Ptr,
+    surface_type: EglInt,
+    profile: Profile,
+    config: WindowConfig,
+) -> Result<Ptr, String> {
     let (api, renderable, api_name) = api_for(profile);
+    let alpha = if config.alpha { 8 } else { 0 };
     unsafe {
         if dpy.is_null() || (a.initialize)(dpy, ptr::null_mut(), ptr::null_mut()) == 0 {
             return Err(a.err("eglGetPlatformDisplay/eglInitialize"));
@@ -228,14 +239,25 @@ fn init_display(a: &Api, dpy: Ptr, surface_type: EglInt, profile: Profile) -> Re
         #[rustfmt::skip]
         let attrs = [
             EGL_SURFACE_TYPE, surface_type, EGL_RENDERABLE_TYPE, renderable,
-            0x3024, 8, 0x3023, 8, 0x3022, 8, 0x3021, 8, // R G B A
-            0x3025, 24, 0x3026, 8, EGL_NONE,             // depth stencil
+            0x3024, 8, 0x3023, 8, 0x3022, 8, EGL_ALPHA_SIZE, alpha, // R G B A
+            0x3025, 24, 0x3026, 8,                                    // depth stencil
+            EGL_SAMPLE_BUFFERS, (config.samples > 0) as EglInt, EGL_SAMPLES, config.samples, EGL_NONE,
         ];
-        let (mut cfg, mut n) = (ptr::null_mut(), 0);
-        if (a.choose_config)(dpy, attrs.as_ptr(), &mut cfg, 1, &mut n) == 0 || n == 0 {
-            return Err(a.err("eglChooseConfig (RGBA8, depth 24, stencil 8)"));
+        let mut cfgs = [ptr::null_mut(); 64];
+        let mut n = 0;
+        if (a.choose_config)(dpy, attrs.as_ptr(), cfgs.as_mut_ptr(), cfgs.len() as EglInt, &mut n) == 0 {
+            return Err(a.err("eglChooseConfig"));
         }
-        Ok(cfg)
+        let attr = |cfg, name| {
+            let mut v = 0;
+            (a.get_config_attrib)(dpy, cfg, name, &mut v);
+            v
+        };
+        cfgs[..n.max(0) as usize]
+            .iter()
+            .copied()
+            .find(|&c| attr(c, EGL_ALPHA_SIZE) == alpha && attr(c, EGL_SAMPLES) == config.samples)
+            .ok_or_else(|| format!("eglChooseConfig: no RGB(A)8 / depth 24 / stencil 8 config with {config:?}"))
     }
 }
 
@@ -262,7 +284,7 @@ impl HeadlessDisplay {
     pub fn new(profile: Profile) -> Result<Self, String> {
         let api = Api::load()?;
         let dpy = api.platform_display(EGL_PLATFORM_SURFACELESS_MESA, ptr::null_mut())?;
-        let cfg = init_display(&api, dpy, EGL_PBUFFER_BIT, profile)?;
+        let cfg = init_display(&api, dpy, EGL_PBUFFER_BIT, profile, WindowConfig::default())?;
         Ok(HeadlessDisplay { api, dpy, cfg, profile })
     }
 

@@ -2,7 +2,7 @@
 //! (like most native apps), so the layer sees them through normal symbol
 //! resolution; only glXCreateContextAttribsARB is fetched dynamically.
 use super::x11win::{XWindow, open_display};
-use super::{Platform, Profile};
+use super::{Platform, Profile, WindowConfig};
 use std::ffi::{CString, c_int, c_void};
 use std::ptr;
 use x11::xlib::{self, Bool, Display, XVisualInfo};
@@ -16,6 +16,7 @@ type CreateContextAttribs =
 unsafe extern "C" {
     fn glXChooseFBConfig(dpy: *mut Display, screen: c_int, attrs: *const c_int, n: *mut c_int) -> *mut GlxFbConfig;
     fn glXGetVisualFromFBConfig(dpy: *mut Display, cfg: GlxFbConfig) -> *mut XVisualInfo;
+    fn glXGetFBConfigAttrib(dpy: *mut Display, cfg: GlxFbConfig, attr: c_int, value: *mut c_int) -> c_int;
     fn glXGetProcAddressARB(name: *const u8) -> *const c_void;
     fn glXMakeContextCurrent(dpy: *mut Display, draw: xlib::XID, read: xlib::XID, ctx: GlxContext) -> Bool;
     fn glXSwapBuffers(dpy: *mut Display, draw: xlib::XID);
@@ -30,6 +31,8 @@ const GLX_ALPHA_SIZE: c_int = 11;
 const GLX_DEPTH_SIZE: c_int = 12;
 const GLX_STENCIL_SIZE: c_int = 13;
 const GLX_X_VISUAL_TYPE: c_int = 0x22;
+const GLX_SAMPLE_BUFFERS: c_int = 100000;
+const GLX_SAMPLES: c_int = 100001;
 const GLX_TRUE_COLOR: c_int = 0x8002;
 const GLX_DRAWABLE_TYPE: c_int = 0x8010;
 const GLX_RENDER_TYPE: c_int = 0x8011;
@@ -47,23 +50,34 @@ pub struct Glx {
     size: (u32, u32),
 }
 
-unsafe fn choose_config(dpy: *mut Display, alpha: c_int) -> Option<GlxFbConfig> {
+/// The first config with exactly `alpha` alpha bits and `samples` samples: GLX sorts deeper
+/// colour buffers first, so a minimum of 0 alpha bits alone would give an alpha config.
+unsafe fn choose_config(dpy: *mut Display, alpha: c_int, samples: c_int) -> Option<GlxFbConfig> {
     #[rustfmt::skip]
     let attrs = [
         GLX_X_RENDERABLE, 1, GLX_DRAWABLE_TYPE, 1 /* WINDOW_BIT */,
         GLX_RENDER_TYPE, 1 /* RGBA_BIT */, GLX_X_VISUAL_TYPE, GLX_TRUE_COLOR,
         GLX_RED_SIZE, 8, GLX_GREEN_SIZE, 8, GLX_BLUE_SIZE, 8, GLX_ALPHA_SIZE, alpha,
-        GLX_DEPTH_SIZE, 24, GLX_STENCIL_SIZE, 8, GLX_DOUBLEBUFFER, 1, 0,
+        GLX_DEPTH_SIZE, 24, GLX_STENCIL_SIZE, 8, GLX_DOUBLEBUFFER, 1,
+        GLX_SAMPLE_BUFFERS, (samples > 0) as c_int, GLX_SAMPLES, samples, 0,
     ];
     let mut n = 0;
     unsafe {
         let cfgs = glXChooseFBConfig(dpy, xlib::XDefaultScreen(dpy), attrs.as_ptr(), &mut n);
-        if cfgs.is_null() || n == 0 {
+        if cfgs.is_null() {
             return None;
         }
-        let cfg = *cfgs;
+        let attr = |cfg, a| {
+            let mut v = 0;
+            glXGetFBConfigAttrib(dpy, cfg, a, &mut v);
+            v
+        };
+        let found = std::slice::from_raw_parts(cfgs, n.max(0) as usize)
+            .iter()
+            .copied()
+            .find(|&c| attr(c, GLX_ALPHA_SIZE) == alpha && attr(c, GLX_SAMPLES) == samples);
         xlib::XFree(cfgs.cast());
-        Some(cfg)
+        found
     }
 }
 
@@ -85,13 +99,19 @@ fn context_attribs(profile: Profile) -> [c_int; 7] {
 }
 
 impl Glx {
-    pub fn new(size: (u32, u32), profile: Profile) -> Result<Self, String> {
+    pub fn new(size: (u32, u32), profile: Profile, config: WindowConfig) -> Result<Self, String> {
         let dpy = open_display()?;
         unsafe {
+            let samples = config.samples;
             // Some X servers only offer alpha-less RGB visuals; accept those.
-            let cfg = choose_config(dpy, 8)
-                .or_else(|| choose_config(dpy, 0))
-                .ok_or("glXChooseFBConfig: no RGBA8 / depth24 / stencil8 double-buffered config")?;
+            let cfg = if config.alpha {
+                choose_config(dpy, 8, samples).or_else(|| choose_config(dpy, 0, samples))
+            } else {
+                choose_config(dpy, 0, samples)
+            };
+            let cfg = cfg.ok_or_else(|| {
+                format!("glXChooseFBConfig: no RGB(A)8 / depth24 / stencil8 double-buffered config with {config:?}")
+            })?;
             let vi = glXGetVisualFromFBConfig(dpy, cfg);
             if vi.is_null() {
                 return Err("glXGetVisualFromFBConfig failed".into());

@@ -36,16 +36,46 @@ pub trait Platform {
     fn describe(&self) -> String;
 }
 
+/// What the app asks of its default framebuffer besides RGB8, depth 24 and stencil 8.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct WindowConfig {
+    /// Samples per pixel (0: single-sampled).
+    pub samples: i32,
+    /// Eight alpha bits, or none.
+    pub alpha: bool,
+}
+
+impl Default for WindowConfig {
+    fn default() -> Self {
+        WindowConfig {
+            samples: 0,
+            alpha: true,
+        }
+    }
+}
+
 pub fn create(backend: Backend, size: (u32, u32), profile: Profile) -> Result<Box<dyn Platform>, String> {
+    create_with(backend, size, profile, WindowConfig::default())
+}
+
+pub fn create_with(
+    backend: Backend,
+    size: (u32, u32),
+    profile: Profile,
+    config: WindowConfig,
+) -> Result<Box<dyn Platform>, String> {
     // GLX and OSMesa can create ES contexts only through extensions that Mesa
     // does not offer everywhere; EGL is the standard way to get one.
     if profile.is_es() && !matches!(backend, Backend::Egl | Backend::EglX11) {
         return Err(format!("{profile:?} needs --backend egl or egl-x11 (got {backend:?})"));
     }
+    if backend == Backend::OsMesa && config != WindowConfig::default() {
+        return Err("--samples and --no-alpha need --backend glx, egl or egl-x11".into());
+    }
     Ok(match backend {
-        Backend::Glx => Box::new(glx::Glx::new(size, profile)?),
-        Backend::Egl => Box::new(egl::Egl::new_headless(size, profile)?),
-        Backend::EglX11 => Box::new(egl::Egl::new_x11(size, profile)?),
+        Backend::Glx => Box::new(glx::Glx::new(size, profile, config)?),
+        Backend::Egl => Box::new(egl::Egl::new_headless(size, profile, config)?),
+        Backend::EglX11 => Box::new(egl::Egl::new_x11(size, profile, config)?),
         Backend::OsMesa => Box::new(osmesa::OsMesa::new(size, profile)?),
     })
 }
