@@ -14,29 +14,35 @@ mod window_like;
 
 /// Records `program` with apitrace for `seconds` (or until it exits). `timeout` signals the
 /// whole process group; apitrace's own signal handler in the traced program has been seen
-/// to hang under load, so a KILL follows 5 s later (glretrace replays truncated traces).
+/// to hang under load, so a KILL follows 5 s later (glretrace replays truncated traces). On a
+/// loaded machine a program can spend a short recording just starting (glxgears recorded
+/// nothing in 1.5 s during a full test run): then it is recorded again for four times as long.
 fn record(dir: &Path, name: &str, api: &str, program: &[&str], seconds: &str) -> PathBuf {
     require_display();
     let trace = dir.join(format!("{name}.trace"));
-    let mut args = vec![
-        "-k",
-        "5",
-        seconds,
-        "apitrace",
-        "trace",
-        "--api",
-        api,
-        "-o",
-        trace.to_str().unwrap(),
-    ];
-    args.extend_from_slice(program);
-    let _ = run(Path::new("timeout"), &args, &[]);
-    let size = std::fs::metadata(&trace).map(|m| m.len()).unwrap_or(0);
-    assert!(
-        size > 1000,
-        "apitrace recorded nothing for {program:?} (is apitrace installed? scripts/setup-debian.sh)"
-    );
-    trace
+    let longer = seconds
+        .parse::<f64>()
+        .map_or(seconds.to_string(), |s| format!("{}", s * 4.0));
+    for limit in [seconds, longer.as_str()] {
+        let mut args = vec![
+            "-k",
+            "5",
+            limit,
+            "apitrace",
+            "trace",
+            "--api",
+            api,
+            "-o",
+            trace.to_str().unwrap(),
+        ];
+        args.extend_from_slice(program);
+        let _ = std::fs::remove_file(&trace);
+        let _ = run(Path::new("timeout"), &args, &[]);
+        if std::fs::metadata(&trace).map(|m| m.len()).unwrap_or(0) > 1000 {
+            return trace;
+        }
+    }
+    panic!("apitrace recorded nothing for {program:?} (is apitrace installed? scripts/setup-debian.sh)");
 }
 
 /// Frame `frame` (from 1) of a plain replay, as glretrace's own snapshot, and what the
@@ -99,18 +105,12 @@ fn assert_replay_quilt(test: &str, api: &str, retrace: &str, program: &[&str], s
 /// What `replay_quilt` asserts of the quilt besides the GL errors (always checked).
 #[derive(Clone, Copy)]
 struct QuiltChecks {
-    /// The centre tile is the plain frame within the centre-view tolerance; when not
-    /// asserted, its figures are still printed.
-    centre: bool,
     /// The side views show depth (`assert_depth_parallax`).
     parallax: bool,
 }
 
 impl QuiltChecks {
-    const ALL: QuiltChecks = QuiltChecks {
-        centre: true,
-        parallax: true,
-    };
+    const ALL: QuiltChecks = QuiltChecks { parallax: true };
 }
 
 /// `assert_replay_quilt` with a choice of checks: scenes drawn flat (2D compositing) have no
@@ -150,11 +150,7 @@ fn replay_quilt(
     let quilt = read_png(&quilt_png);
     let centre = tile(&quilt, 5, 1, 2);
     let what = format!("{test}: centre tile against the plain frame");
-    if checks.centre {
-        assert_within(&plain, &centre, &suffixed(&quilt_png, "-centre"), EXACT, &what);
-    } else {
-        print_centre_figures(&plain, &centre, EXACT, &what);
-    }
+    assert_within(&plain, &centre, &suffixed(&quilt_png, "-centre"), EXACT, &what);
     if checks.parallax {
         assert_depth_parallax(&quilt, &quilt_png, 5, PARALLAX_SEARCH, test);
     }
@@ -216,10 +212,7 @@ fn glmark2_terrain_fbo_quilt() {
 #[test]
 fn glmark2_desktop_fbo_quilt_centre() {
     let prog = ["glmark2", "-s", "400x300", "-b", "desktop:duration=0.5"];
-    let checks = QuiltChecks {
-        centre: true,
-        parallax: false,
-    };
+    let checks = QuiltChecks { parallax: false };
     replay_quilt("glmark2_desktop_fbo_quilt", "gl", "glretrace", &prog, "20", 8, checks);
 }
 
@@ -237,25 +230,15 @@ fn glmark2_desktop_fbo_quilt_centre() {
 #[test]
 fn glmark2_refract_fbo_quilt() {
     let prog = ["glmark2", "-s", "400x300", "-b", "refract:nframes=24"];
-    let checks = QuiltChecks {
-        centre: false,
-        parallax: true,
-    };
-    replay_quilt("glmark2_refract_fbo_quilt", "gl", "glretrace", &prog, "20", 12, checks);
-}
-
-/// How far a centre tile is from the plain frame, for a test that cannot assert it yet.
-fn print_centre_figures(plain: &Image, centre: &Image, rule: Tolerance, what: &str) {
-    let beyond = pixels_off(plain, centre, rule.level);
-    let any = pixels_off(plain, centre, 0);
-    let (max, _) = difference(&plain.rgb, &centre.rgb);
-    let psnr = tile_psnr(plain, centre, 1, 1)[0];
-    eprintln!(
-        "{what} (not asserted): {beyond} of {} pixels off by more than {} level(s) (tolerance {}), \
-         {any} differ at all, largest channel difference {max}, PSNR {psnr:.2} dB",
-        plain.width * plain.height,
-        rule.level,
-        rule.pixels
+    // The centre view is bit-exact since the quilt is stored like the window (it was 35 dB).
+    replay_quilt(
+        "glmark2_refract_fbo_quilt",
+        "gl",
+        "glretrace",
+        &prog,
+        "20",
+        12,
+        QuiltChecks::ALL,
     );
 }
 
