@@ -52,34 +52,27 @@ pub fn link(gl: &Gl, info: GlInfo, vert: &str, frag: &str) -> Result<u32, String
             return Err(e);
         }
     };
-    // SAFETY: linking our own program from our own shaders.
-    unsafe {
-        let p = gl.CreateProgram();
-        gl.AttachShader(p, vs);
-        gl.AttachShader(p, fs);
-        gl.LinkProgram(p);
-        gl.DeleteShader(vs);
-        gl.DeleteShader(fs);
-        let mut ok = 0;
-        gl.GetProgramiv(p, LINK_STATUS, &mut ok);
-        if ok == 0 {
-            let log = info_log(|n, l, b| gl.GetProgramInfoLog(p, n, l, b));
-            gl.DeleteProgram(p);
-            return Err(log);
-        }
-        Ok(p)
-    }
+    link_shaders(gl, &[vs, fs])
 }
 
 /// Our compute program (desktop GL 4.3 source, used as is).
 pub fn link_compute(gl: &Gl, source: &str) -> Result<u32, String> {
     let cs = compile(gl, COMPUTE_SHADER, source)?;
-    // SAFETY: linking our own program from our own shader.
+    link_shaders(gl, &[cs])
+}
+
+/// A program from compiled `shaders`, which are deleted (they live on in the program).
+fn link_shaders(gl: &Gl, shaders: &[u32]) -> Result<u32, String> {
+    // SAFETY: linking our own program from our own shaders.
     unsafe {
         let p = gl.CreateProgram();
-        gl.AttachShader(p, cs);
+        for &s in shaders {
+            gl.AttachShader(p, s);
+        }
         gl.LinkProgram(p);
-        gl.DeleteShader(cs);
+        for &s in shaders {
+            gl.DeleteShader(s);
+        }
         let mut ok = 0;
         gl.GetProgramiv(p, LINK_STATUS, &mut ok);
         if ok == 0 {

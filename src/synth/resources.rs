@@ -49,6 +49,18 @@ fn array(gl: &Gl, format: GLenum, (w, h): (i32, i32), layers: usize, filter: GLe
     t
 }
 
+/// A buffer of ours with `bytes` of uninitialised storage (written by our passes).
+fn buffer(gl: &Gl, bytes: isize) -> u32 {
+    let mut b = 0;
+    // SAFETY: our own buffer; the caller's guard restores ARRAY_BUFFER.
+    unsafe {
+        gl.GenBuffers(1, &mut b);
+        gl.BindBuffer(ARRAY_BUFFER, b);
+        gl.BufferData(ARRAY_BUFFER, bytes, core::ptr::null(), DYNAMIC_COPY);
+    }
+    b
+}
+
 /// Cells of level `l` (0 = 2x2 pixels) covering a tile.
 pub fn level_size(tile: (i32, i32), l: usize) -> (i32, i32) {
     let cell = 2 << l;
@@ -62,27 +74,11 @@ impl Resources {
         for (l, t) in levels.iter_mut().enumerate() {
             *t = array(gl, RGBA32F, level_size(tile, l), sources, NEAREST);
         }
-        let (mut leaves, mut commands, mut leaf_view) = (0, 0, 0);
-        // SAFETY: our own buffers; the caller's guard restores ARRAY_BUFFER.
-        unsafe {
-            gl.GenBuffers(1, &mut leaves);
-            gl.BindBuffer(ARRAY_BUFFER, leaves);
-            gl.BufferData(
-                ARRAY_BUFFER,
-                leaf_stride * sources as isize,
-                core::ptr::null(),
-                DYNAMIC_COPY,
-            );
-            gl.GenBuffers(1, &mut commands);
-            gl.BindBuffer(ARRAY_BUFFER, commands);
-            gl.BufferData(
-                ARRAY_BUFFER,
-                COMMAND_STRIDE * sources as isize,
-                core::ptr::null(),
-                DYNAMIC_COPY,
-            );
-            gl.GenTextures(1, &mut leaf_view);
-        }
+        let leaves = buffer(gl, leaf_stride * sources as isize);
+        let commands = buffer(gl, COMMAND_STRIDE * sources as isize);
+        let mut leaf_view = 0;
+        // SAFETY: a name for our buffer texture (its storage is pointed at per source).
+        unsafe { gl.GenTextures(1, &mut leaf_view) };
         Resources {
             tile,
             sources,
