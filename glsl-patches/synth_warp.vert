@@ -2,7 +2,7 @@
 // One leaf quad of a rendered view, moved into a target view: each corner by its own
 // disparity (u_target - u_source)(s·p + f), in tile pixels, and at its own window depth (the
 // view shift leaves z and w alone; over a plane, window depth is affine in screen space, so
-// interpolating it is exact and the fragment shader writes no depth). Drawn as a 4-vertex
+// interpolating it is exact and the fragment shader writes no depth).
 // Six vertices (two triangles) per leaf, fetched from the leaf list by gl_VertexID.
 uniform usamplerBuffer u_leaves;
 uniform sampler2DArray u_parallax;
@@ -18,6 +18,10 @@ uniform float u_margin;
 uniform float u_far_bias;
 // 1 when window depth is z_ndc (glClipControl GL_ZERO_TO_ONE), else 0.
 uniform int u_zero_to_one;
+// Pixels the viewport extends beyond each side of the tile (the scissor cuts at the tile):
+// a quad moved partly out of the tile is then cut by the rasterizer, not clipped, which
+// llvmpipe does on a slow path whose cost grows with the whole draw.
+uniform float u_overhang;
 out vec2 v_uv;
 
 void main()
@@ -43,17 +47,19 @@ void main()
     float stretch = max(disp.y - disp.x, disp.w - disp.z);
     if (a_rect.z == 1u && stretch > 1.0) {
         int w = int(u_tile.x);
-        // This vertex's row of the leaf (a leaf is one or two rows tall).
+        // This vertex's row of the leaf (columns can be many rows tall).
         int row = int(a_rect.y) + int(corner.y) * (int(a_rect.w) - 1);
         int x = int(a_rect.x);
         int left = max(x - 1, 0), right = min(x + 1, w - 1);
         float pl = texelFetch(u_parallax, ivec3(left, row, u_layer), 0).r;
         float pr = texelFetch(u_parallax, ivec3(right, row, u_layer), 0).r;
         int far = pl >= pr ? left : right;
-        v_uv = vec2((float(far) + 0.5) / u_tile.x, (float(row) + 0.5) / u_tile.y);
+        // Down the column, rows map to themselves: fragment centres sample row centres.
+        v_uv = vec2((float(far) + 0.5) / u_tile.x, src.y / u_tile.y);
         depth = clamp(texelFetch(u_depth, ivec3(far, row, u_layer), 0).r + u_far_bias, 0.0, 1.0);
     }
     float x = src.x + d + u_margin * (corner.x * 2.0 - 1.0);
     float z = u_zero_to_one == 1 ? depth : 2.0 * depth - 1.0;
-    gl_Position = vec4(vec2(x, src.y) / u_tile * 2.0 - 1.0, z, 1.0);
+    vec2 viewport = u_tile + vec2(2.0 * u_overhang, 0.0);
+    gl_Position = vec4((vec2(x + u_overhang, src.y) / viewport) * 2.0 - 1.0, z, 1.0);
 }

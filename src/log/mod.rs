@@ -82,6 +82,9 @@ pub fn info(args: Arguments) {
 pub fn debug(args: Arguments) {
     emit(Level::Debug, args)
 }
+pub fn trace(args: Arguments) {
+    emit(Level::Trace, args)
+}
 
 /// Logs at `l` the first time `flag` is seen, then never again for that flag.
 pub fn once(flag: &AtomicBool, l: Level, args: Arguments) {

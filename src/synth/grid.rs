@@ -10,7 +10,11 @@ use std::ffi::CString;
 const FULLSCREEN_VERT: &str = include_str!("../../glsl-patches/fullscreen.vert");
 const PARALLAX_FRAG: &str = include_str!("../../glsl-patches/synth_parallax.frag");
 const MINMAX_FRAG: &str = include_str!("../../glsl-patches/synth_minmax.frag");
+const GRID_COMMON: &str = include_str!("../../glsl-patches/synth_grid_common.glsl");
 const LEAVES_COMP: &str = include_str!("../../glsl-patches/synth_leaves.comp");
+const COLUMNS_COMP: &str = include_str!("../../glsl-patches/synth_columns.comp");
+/// Rows of a column segment (`SEGMENT` in synth_columns.comp).
+const COLUMN_SEGMENT: u32 = 32;
 const WARP_VERT: &str = include_str!("../../glsl-patches/synth_warp.vert");
 const WARP_FRAG: &str = include_str!("../../glsl-patches/synth_warp.frag");
 
@@ -22,7 +26,14 @@ pub struct Programs {
     parallax: u32,
     minmax: u32,
     leaves: u32,
+    columns: u32,
     warp: u32,
+}
+
+/// A compute pass of the grid: `body` with the shared leaf code after its `#version` line.
+fn link_grid_pass(gl: &Gl, body: &str) -> Result<u32, String> {
+    let (version, rest) = body.split_once('\n').unwrap_or((body, ""));
+    crate::gl::program::link_compute(gl, &format!("{version}\n{GRID_COMMON}\n{rest}"))
 }
 
 impl Programs {
@@ -31,16 +42,16 @@ impl Programs {
         let p = Programs {
             parallax: link(PARALLAX_FRAG).map_err(|e| format!("synthesis parallax pass: {e}"))?,
             minmax: link(MINMAX_FRAG).map_err(|e| format!("synthesis pyramid pass: {e}"))?,
-            leaves: crate::gl::program::link_compute(gl, LEAVES_COMP)
-                .map_err(|e| format!("synthesis grid pass: {e}"))?,
+            leaves: link_grid_pass(gl, LEAVES_COMP).map_err(|e| format!("synthesis grid pass: {e}"))?,
+            columns: link_grid_pass(gl, COLUMNS_COMP).map_err(|e| format!("synthesis column pass: {e}"))?,
             warp: crate::gl::program::link(gl, info, WARP_VERT, WARP_FRAG)
                 .map_err(|e| format!("synthesis warp pass: {e}"))?,
         };
         Ok(p)
     }
 
-    pub fn names(&self) -> [u32; 4] {
-        [self.parallax, self.minmax, self.leaves, self.warp]
+    pub fn names(&self) -> [u32; 5] {
+        [self.parallax, self.minmax, self.leaves, self.columns, self.warp]
     }
 }
 
@@ -87,10 +98,17 @@ pub struct Pass<'a> {
 
 impl Pass<'_> {
     pub fn run(&self, job: &Job) -> Result<(), String> {
+        let mut profile = super::profile::Profile::new(self.gl);
         for (j, source) in job.sources.iter().enumerate() {
             self.copy_source(j, source, job)?;
+            profile.lap("copy");
             self.pyramid(j, job);
+            profile.lap("pyramid");
             self.list_leaves(j, job);
+            profile.lap("grid");
+            if profile.on() {
+                profile.leaves += self.leaf_count(j);
+            }
         }
         // SAFETY: the leaf lists are read as vertex attributes and draw commands next.
         unsafe {
@@ -98,7 +116,24 @@ impl Pass<'_> {
                 .MemoryBarrier(VERTEX_ATTRIB_ARRAY_BARRIER_BIT | COMMAND_BARRIER_BIT)
         };
         self.draw_targets(job);
+        profile.lap("warp");
         Ok(())
+    }
+
+    /// Leaves listed for source `j` (a read-back: for the trace profile only).
+    fn leaf_count(&self, j: usize) -> u64 {
+        let mut command = [0u32; 4];
+        // SAFETY: 16 bytes of our own command buffer into a local of that size.
+        unsafe {
+            self.gl.BindBuffer(DRAW_INDIRECT_BUFFER, self.res.commands);
+            self.gl.GetBufferSubData(
+                DRAW_INDIRECT_BUFFER,
+                j as isize * COMMAND_STRIDE,
+                16,
+                command.as_mut_ptr().cast(),
+            );
+        }
+        u64::from(command[0] / 6)
     }
 
     /// Attaches layer `layer` of `texture` (0: nothing) at `point` of our framebuffer, bound
@@ -198,9 +233,10 @@ impl Pass<'_> {
         self.attach(COLOR_ATTACHMENT0, 0, 0);
     }
 
-    /// Source `j`'s leaf cells, appended to its list by one dispatch per level.
+    /// Source `j`'s leaf cells, appended to its list by one dispatch per level, then its
+    /// columns of single pixels.
     fn list_leaves(&self, j: usize, job: &Job) {
-        let (gl, p, res) = (self.gl, self.programs.leaves, self.res);
+        let (gl, res) = (self.gl, self.res);
         let reach = job
             .targets
             .iter()
@@ -209,7 +245,7 @@ impl Pass<'_> {
             .fold(0.0, f64::max);
         let scale = job.depthiness.abs() * job.tile.0 as f64 / 2.0 * reach;
         let command: [u32; 4] = [0, 1, 0, 0];
-        // SAFETY: our buffers and program; bindings are restored by the guard.
+        // SAFETY: our buffers; bindings are restored by the guard.
         unsafe {
             gl.BindBuffer(DRAW_INDIRECT_BUFFER, res.commands);
             gl.BufferSubData(
@@ -226,16 +262,24 @@ impl Pass<'_> {
                 res.leaf_stride,
             );
             gl.BindBufferRange(SHADER_STORAGE_BUFFER, 1, res.commands, j as isize * COMMAND_STRIDE, 16);
-            gl.UseProgram(p);
-            gl.Uniform1i(loc(gl, p, "u_parallax"), 0);
-            gl.Uniform1i(loc(gl, p, "u_level"), 1);
-            gl.Uniform1i(loc(gl, p, "u_parent"), 2);
-            gl.Uniform1i(loc(gl, p, "u_depth"), 3);
-            gl.Uniform1i(loc(gl, p, "u_layer"), j as i32);
-            gl.Uniform1f(loc(gl, p, "u_scale"), scale as f32);
-            gl.Uniform1f(loc(gl, p, "u_threshold"), job.threshold as f32);
-            gl.Uniform2i(loc(gl, p, "u_tile"), res.tile.0, res.tile.1);
         }
+        let common = |p: u32| {
+            // SAFETY: uniforms of our own program.
+            unsafe {
+                gl.UseProgram(p);
+                gl.Uniform1i(loc(gl, p, "u_parallax"), 0);
+                gl.Uniform1i(loc(gl, p, "u_level"), 1);
+                gl.Uniform1i(loc(gl, p, "u_depth"), 3);
+                gl.Uniform1i(loc(gl, p, "u_layer"), j as i32);
+                gl.Uniform1f(loc(gl, p, "u_scale"), scale as f32);
+                gl.Uniform1f(loc(gl, p, "u_threshold"), job.threshold as f32);
+                gl.Uniform2i(loc(gl, p, "u_tile"), res.tile.0, res.tile.1);
+            }
+        };
+        let p = self.programs.leaves;
+        common(p);
+        // SAFETY: as above.
+        unsafe { gl.Uniform1i(loc(gl, p, "u_parent"), 2) };
         self.bind_array(0, res.parallax);
         self.bind_array(3, res.depth);
         for l in (0..LEVELS).rev() {
@@ -250,6 +294,14 @@ impl Pass<'_> {
                 gl.MemoryBarrier(SHADER_STORAGE_BARRIER_BIT);
             }
         }
+        common(self.programs.columns);
+        self.bind_array(1, res.levels[0]);
+        let (w, h) = (res.tile.0 as u32, res.tile.1 as u32);
+        // SAFETY: as above.
+        unsafe {
+            gl.DispatchCompute(w.div_ceil(64), h.div_ceil(COLUMN_SEGMENT), 1);
+            gl.MemoryBarrier(SHADER_STORAGE_BARRIER_BIT);
+        }
     }
 
     /// Every target tile: depth cleared to the far value, then each of its sources' leaves
@@ -258,6 +310,8 @@ impl Pass<'_> {
         let (gl, p, res) = (self.gl, self.programs.warp, self.res);
         let far = [job.model.far_depth()];
         let (tw, th) = job.tile;
+        // Well inside any viewport size and bounds GL 4.3 guarantees.
+        let overhang = tw.min(4096);
         // SAFETY: our program, vertex array and buffers; the destination is the layer's own
         // framebuffer. All of it is restored by the guard.
         unsafe {
@@ -281,6 +335,7 @@ impl Pass<'_> {
                 (job.focus * px) as f32,
             );
             gl.Uniform1f(loc(gl, p, "u_margin"), 0.5);
+            gl.Uniform1f(loc(gl, p, "u_overhang"), overhang as f32);
             let bias = if job.model.reversed {
                 -STRETCHED_BIAS
             } else {
@@ -301,7 +356,7 @@ impl Pass<'_> {
             let r = t.rect;
             // SAFETY: as above.
             unsafe {
-                gl.Viewport(r[0], r[1], r[2], r[3]);
+                gl.Viewport(r[0] - overhang, r[1], r[2] + 2 * overhang, r[3]);
                 gl.Scissor(r[0], r[1], r[2], r[3]);
                 gl.ClearBufferfv(DEPTH, 0, far.as_ptr());
             }

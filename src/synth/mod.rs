@@ -17,6 +17,7 @@
 
 pub mod disparity;
 mod grid;
+mod profile;
 mod resources;
 
 pub use disparity::ParallaxModel;
