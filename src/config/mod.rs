@@ -128,8 +128,19 @@ pub struct ViewSettings {
     pub mode: Mode,
     /// Disparity range (tile pixels, outermost view) a synthesis grid cell may hold.
     pub synth_threshold: f64,
+    pub synth_warp: SynthWarp,
     /// Frames on which the exact quilt is rendered too and the synthesised views compared.
     pub measure_error: Option<FrameSet>,
+}
+
+/// How synthesised views are warped (README "Choosing a mode").
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SynthWarp {
+    /// One compute invocation per target row: no triangles (default; measured faster and
+    /// closer to exact on llvmpipe).
+    Rows,
+    /// Didyk et al.'s adaptive quad grid, drawn as triangles.
+    Grid,
 }
 
 impl ViewSettings {
@@ -162,6 +173,7 @@ impl Default for ViewSettings {
             focus: 0.0,
             mode: Mode::Exact,
             synth_threshold: 1.0,
+            synth_warp: SynthWarp::Rows,
             measure_error: None,
         }
     }
@@ -246,6 +258,7 @@ impl Settings {
                 "focus" => s.view.focus = parse::finite(&value).unwrap_or(0.0),
                 "mode" => s.view.mode = parse::mode(&value).unwrap_or(Mode::Exact),
                 "synth-threshold" => s.view.synth_threshold = parse::synth_threshold(&value).unwrap_or(1.0),
+                "synth-warp" => s.view.synth_warp = parse::synth_warp(&value).unwrap_or(SynthWarp::Rows),
                 "measure-error" => s.view.measure_error = parse::frames(&value).ok(),
                 _ => {}
             }

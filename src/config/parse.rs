@@ -1,6 +1,6 @@
 //! Value syntax shared by the launcher (flags) and the layer (environment).
 
-use super::{Boundary, Convergence, FboViews, FrameSet, Mode, Output};
+use super::{Boundary, Convergence, FboViews, FrameSet, Mode, Output, SynthWarp};
 
 pub fn grid(v: &str) -> Result<(u32, u32), String> {
     let (a, b) = v
@@ -51,6 +51,15 @@ pub fn synth_threshold(v: &str) -> Result<f64, String> {
             Err(format!("`{v}`: pixels in 0.01..=64"))
         }
     })
+}
+
+/// `--synth-warp`.
+pub fn synth_warp(v: &str) -> Result<SynthWarp, String> {
+    match v.trim() {
+        "rows" => Ok(SynthWarp::Rows),
+        "grid" => Ok(SynthWarp::Grid),
+        _ => Err(format!("`{v}`: expected rows or grid")),
+    }
 }
 
 pub fn output(v: &str) -> Result<Output, String> {
@@ -187,5 +196,7 @@ mod tests {
         assert!(mode("fast").is_err());
         assert!(synth_threshold("0").is_err());
         assert_eq!(synth_threshold("2"), Ok(2.0));
+        assert_eq!(synth_warp("grid"), Ok(super::SynthWarp::Grid));
+        assert!(synth_warp("quads").is_err());
     }
 }

@@ -135,11 +135,16 @@ fn try_warp(gl: &Gl, mv: &mut Multiview) -> Result<(), String> {
         depthiness: if model.is_some() { rig.depthiness } else { 0.0 },
         focus: rig.focus,
         threshold: mv.settings.synth_threshold,
+        rows: mv.settings.synth_warp == crate::config::SynthWarp::Rows,
     };
     if !ANNOUNCED.swap(true, std::sync::atomic::Ordering::Relaxed) {
+        let how = if job.rows {
+            "row by row (neighbouring pixels warped as one piece unless their disparities differ by more than"
+        } else {
+            "by an adaptive quad grid (cells 32 px down to 1 px, split above"
+        };
         log::info(format_args!(
-            "synthesis: {} of {} views rendered, the others warped by an adaptive quad grid \
-             (cells 32 px down to 1 px, split above {} px of disparity range)",
+            "synthesis: {} of {} views rendered, the others warped {how} {} px)",
             sources.len(),
             layout.views(),
             job.threshold

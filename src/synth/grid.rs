@@ -73,16 +73,16 @@ pub fn guard(gl: &Gl, info: GlInfo) -> StateGuard<'_> {
             SHADER_STORAGE_BUFFER_BINDING,
             SHADER_STORAGE_BUFFER_START,
             SHADER_STORAGE_BUFFER_SIZE,
-            0..2,
+            0..3,
         )
 }
 
 /// The context's clip depth mode is `GL_ZERO_TO_ONE` (GL 4.5 `glClipControl`).
-fn zero_to_one(gl: &Gl) -> bool {
+pub fn zero_to_one(gl: &Gl) -> bool {
     gl.ClipControl.is_loaded() && crate::gl::guard::get_i(gl, CLIP_DEPTH_MODE) as u32 == ZERO_TO_ONE
 }
 
-fn loc(gl: &Gl, program: u32, name: &str) -> i32 {
+pub fn loc(gl: &Gl, program: u32, name: &str) -> i32 {
     let c = CString::new(name).unwrap_or_default();
     // SAFETY: a NUL-terminated name for our linked program.
     unsafe { gl.GetUniformLocation(program, c.as_ptr()) }
@@ -102,7 +102,8 @@ impl Pass<'_> {
         for (j, source) in job.sources.iter().enumerate() {
             self.copy_source(j, source, job)?;
             profile.lap("copy");
-            self.pyramid(j, job);
+            self.parallax(j, job);
+            self.pyramid(j);
             profile.lap("pyramid");
             self.list_leaves(j, job);
             profile.lap("grid");
@@ -138,7 +139,7 @@ impl Pass<'_> {
 
     /// Attaches layer `layer` of `texture` (0: nothing) at `point` of our framebuffer, bound
     /// for drawing.
-    fn attach(&self, point: GLenum, texture: u32, layer: usize) {
+    pub fn attach(&self, point: GLenum, texture: u32, layer: usize) {
         // SAFETY: our own framebuffer and textures.
         unsafe {
             self.gl.BindFramebuffer(DRAW_FRAMEBUFFER, self.fbo);
@@ -155,7 +156,7 @@ impl Pass<'_> {
 
     /// The source's colour and depth into layer `j` of our arrays (depth blits need the
     /// source's own format, which our array has).
-    fn copy_source(&self, j: usize, s: &Source, job: &Job) -> Result<(), String> {
+    pub fn copy_source(&self, j: usize, s: &Source, job: &Job) -> Result<(), String> {
         let gl = self.gl;
         let (tw, th) = job.tile;
         let blit = |read: u32, r: [i32; 4], mask: u32, filter: GLenum| {
@@ -197,7 +198,7 @@ impl Pass<'_> {
         }
     }
 
-    fn bind_array(&self, unit: u32, texture: u32) {
+    pub fn bind_array(&self, unit: u32, texture: u32) {
         // SAFETY: our texture on a unit the guard restores.
         unsafe {
             self.gl.ActiveTexture(TEXTURE0 + unit);
@@ -205,8 +206,8 @@ impl Pass<'_> {
         }
     }
 
-    /// Parallax per pixel, then its min/max pyramid.
-    fn pyramid(&self, j: usize, job: &Job) {
+    /// Parallax per pixel of source `j`.
+    pub fn parallax(&self, j: usize, job: &Job) {
         let (gl, p, res) = (self.gl, self.programs, self.res);
         self.bind_array(0, res.depth);
         // SAFETY: uniforms of our own program.
@@ -218,6 +219,12 @@ impl Pass<'_> {
             gl.Uniform4f(loc(gl, p.parallax, "u_model"), m.a_hi, m.a_lo, m.scale, 0.0);
         }
         self.fullscreen(p.parallax, res.parallax, j, res.tile);
+        self.attach(COLOR_ATTACHMENT0, 0, 0);
+    }
+
+    /// The min/max pyramid of source `j`'s parallax.
+    fn pyramid(&self, j: usize) {
+        let (gl, p, res) = (self.gl, self.programs, self.res);
         for l in 0..LEVELS {
             let src = if l == 0 { res.parallax } else { res.levels[l - 1] };
             self.bind_array(0, src);

@@ -19,6 +19,7 @@ pub mod disparity;
 mod grid;
 mod profile;
 mod resources;
+mod rows;
 
 pub use disparity::ParallaxModel;
 
@@ -57,15 +58,20 @@ pub struct Job<'a> {
     pub model: ParallaxModel,
     pub depthiness: f64,
     pub focus: f64,
-    /// Largest parallax range of a grid cell, in pixels of the outermost target view.
+    /// Largest parallax range of a grid cell, in pixels of the outermost target view (the
+    /// row warp: the largest disparity step between neighbouring pixels on one surface).
     pub threshold: f64,
+    /// Warp row by row (`rows`) instead of by the quad grid.
+    pub rows: bool,
 }
 
 /// Per-context synthesis state: programs, working textures, a framebuffer and vertex array.
 #[derive(Default)]
 pub struct Synthesizer {
     programs: Option<Result<grid::Programs, String>>,
+    row_programs: Option<Result<rows::RowPrograms, String>>,
     resources: Option<resources::Resources>,
+    row_targets: Option<rows::RowTargets>,
     fbo: u32,
     vao: u32,
 }
@@ -89,6 +95,18 @@ impl Synthesizer {
                 self.programs = Some(p.clone());
                 p?
             }
+        };
+        let row_programs = if job.rows {
+            Some(match &self.row_programs {
+                Some(p) => p.clone()?,
+                None => {
+                    let p = rows::RowPrograms::link(gl, info);
+                    self.row_programs = Some(p.clone());
+                    p?
+                }
+            })
+        } else {
+            None
         };
         let _guard = grid::guard(gl, info);
         crate::gl::guard::neutral_pass_state(gl, info);
@@ -122,7 +140,23 @@ impl Synthesizer {
             fbo: self.fbo,
             vao: self.vao,
         };
-        pass.run(job)
+        let Some(row_programs) = row_programs else {
+            return pass.run(job);
+        };
+        let count = job.targets.len();
+        let sources = job.sources.len();
+        if !self
+            .row_targets
+            .as_ref()
+            .is_some_and(|t| t.fits(job.tile, sources, count))
+        {
+            if let Some(old) = self.row_targets.take() {
+                old.delete(gl);
+            }
+            self.row_targets = Some(rows::RowTargets::create(gl, job.tile, sources, count));
+        }
+        let out = self.row_targets.as_ref().ok_or("no row targets")?;
+        rows::run(&pass, &row_programs, out, job)
     }
 
     /// What of ours is shared with the context's share group.
@@ -131,9 +165,15 @@ impl Synthesizer {
         if let Some(Ok(p)) = &self.programs {
             o.programs.extend(p.names());
         }
+        if let Some(Ok(p)) = &self.row_programs {
+            o.programs.extend(p.names());
+        }
         if let Some(r) = &self.resources {
             o.textures.extend(r.textures());
             o.buffers.extend(r.buffers());
+        }
+        if let Some(t) = &self.row_targets {
+            o.buffers.extend(t.buffers());
         }
         o
     }

@@ -1,0 +1,144 @@
+#version 430 core
+// The row warp: disparity is horizontal, so every row of a target view is made from the same
+// row of its sources alone. One invocation owns one row of one target, so it can depth-test
+// against its own writes without atomics. Each pair of neighbouring source pixels is a
+// one-pixel-tall cell of Didyk et al.'s grid: where their disparities differ by no more than
+// the threshold it is warped as one piece (colour and depth interpolated between the two
+// centres, exact for planes); where they differ by more it is a depth edge, each pixel keeps
+// its own half-pixel footprint, and a gap opening between them (a disocclusion) is filled with
+// the farther of the two, pushed back so that anything actually seen there wins.
+layout(local_size_x = 32) in;
+
+// Sources and targets as plain storage (llvmpipe's loads and stores cost a fraction of its
+// texel fetches and image accesses): per pixel, packed RGBA8, window depth and parallax.
+struct Pixel {
+    uint color;
+    float depth;
+    float parallax;
+};
+layout(std430, binding = 1) readonly buffer Sources { Pixel src_pixels[]; };
+struct Out {
+    uint color;
+    float depth;
+};
+layout(std430, binding = 2) buffer Targets_out { Out out_pixels[]; };
+uniform ivec2 u_tile;
+uniform int u_targets;
+// (s, f) times half the tile width: pixels per unit of parallax, and of focus.
+uniform vec2 u_px;
+uniform float u_threshold;
+// 1 under reversed-Z (nearer is larger).
+uniform int u_reversed;
+// Window depth towards the far side for disocclusion fill (negative under reversed-Z).
+uniform float u_far_bias;
+
+struct Target {
+    // Source camera offsets u_target - u_source: second source, then the preferred one.
+    vec4 du;
+    // Source layers (second, preferred) and how many sources (1 or 2).
+    ivec4 src;
+};
+layout(std430, binding = 0) readonly buffer Targets { Target targets[]; };
+
+int row;
+int width;
+// Index of this row's first pixel in the output.
+int out_base;
+
+bool nearer(float a, float b)
+{
+    return u_reversed == 1 ? a >= b : a <= b;
+}
+
+void put(int x, vec4 c, float z)
+{
+    int i = out_base + x;
+    if (nearer(z, out_pixels[i].depth)) {
+        out_pixels[i].depth = z;
+        out_pixels[i].color = packUnorm4x8(c);
+    }
+}
+
+// Target pixels whose centres lie in [a, b), clamped to the row.
+ivec2 covered(float a, float b)
+{
+    return ivec2(max(int(ceil(a - 0.5)), 0), min(int(ceil(b - 0.5)), width));
+}
+
+// The span [a, b) filled with one colour and depth.
+void fill(float a, float b, vec4 c, float z)
+{
+    ivec2 r = covered(a, b);
+    for (int i = r.x; i < r.y; i++) {
+        put(i, c, z);
+    }
+}
+
+void scan(int src, float du)
+{
+    float k = du * u_px.x, f = du * u_px.y;
+    float px = 0.0, pz = 0.0, pd = 0.0;
+    vec4 pc = vec4(0.0);
+    bool have = false;
+    int base = (src * u_tile.y + row) * width;
+    for (int x = 0; x < width; x++) {
+        Pixel s = src_pixels[base + x];
+        float d = k * s.parallax + f;
+        float X = float(x) + 0.5 + d;
+        // NaN, infinite or absurd positions (points at the camera) are left out.
+        if (!(abs(X) < 1.0e6)) {
+            have = false;
+            continue;
+        }
+        vec4 c = unpackUnorm4x8(s.color);
+        float z = s.depth;
+        if (x == 0) {
+            // The border pixel also covers whatever opens up beyond the view's edge.
+            fill(-1.0e6, X, c, z);
+        } else if (!have) {
+            fill(X - 0.5, X, c, z);
+        } else if (abs(d - pd) <= u_threshold) {
+            ivec2 r = covered(min(px, X), max(px, X));
+            float inv = 1.0 / (X - px);
+            for (int i = r.x; i < r.y; i++) {
+                float t = clamp((float(i) + 0.5 - px) * inv, 0.0, 1.0);
+                put(i, mix(pc, c, t), mix(pz, z, t));
+            }
+        } else {
+            fill(px, px + 0.5, pc, pz);
+            fill(X - 0.5, X, c, z);
+            if (X - px > 1.0) {
+                bool back = nearer(z, pz);
+                fill(px + 0.5, X - 0.5, back ? pc : c, clamp((back ? pz : z) + u_far_bias, 0.0, 1.0));
+            }
+        }
+        if (x == width - 1) {
+            fill(X, 1.0e6, c, z);
+        }
+        px = X;
+        pz = z;
+        pd = d;
+        pc = c;
+        have = true;
+    }
+}
+
+void main()
+{
+    row = int(gl_GlobalInvocationID.x);
+    int layer = int(gl_GlobalInvocationID.y);
+    width = u_tile.x;
+    if (row >= u_tile.y || layer >= u_targets) {
+        return;
+    }
+    out_base = (layer * u_tile.y + row) * width;
+    float far = u_reversed == 1 ? 0.0 : 1.0;
+    for (int x = 0; x < width; x++) {
+        out_pixels[out_base + x] = Out(0u, far);
+    }
+    Target t = targets[layer];
+    if (t.src.z == 2) {
+        scan(t.src.x, t.du.x);
+    }
+    scan(t.src.y, t.du.y);
+}
