@@ -46,8 +46,15 @@ def quilt_of(n):
     sys.exit(f"bench-trade: no quilt layout for {n} views (use {', '.join(map(str, QUILTS))})")
 
 
+def mode_args(mode):
+    """A mode with an optional warp: `synth+grid` is `--mode synth --synth-warp grid`."""
+    m, _, warp = mode.partition("+")
+    return ["--mode", m] + (["--synth-warp", warp] if warp else [])
+
+
 def hybrid_k(mode):
-    return int(mode.split(":")[1]) if mode.startswith("hybrid:") else None
+    m = mode.partition("+")[0]
+    return int(m.split(":")[1]) if m.startswith("hybrid:") else None
 
 
 class Display:
@@ -130,7 +137,7 @@ def run_once(scene, mode, n, tile, a, display):
     except RuntimeError as e:
         return {"error": str(e)}
     cmd = [os.path.join(a.bin, "holoinject"), "run", "--log", "info", "--output", "quilt",
-           "--quilt", quilt_of(n), "--tile", tile, "--mode", mode, "--exit-after", str(a.frames),
+           "--quilt", quilt_of(n), "--tile", tile, *mode_args(mode), "--exit-after", str(a.frames),
            "--measure-error", f"every:{a.measure_every}", *a.layer_arg, "--", *prog]
     try:
         p = subprocess.run(cmd, capture_output=True, text=True, timeout=a.timeout,
@@ -159,7 +166,7 @@ def main():
     ap.add_argument("--frames", type=int, default=40, help="frames per run, timed from frame 11 (default 40)")
     ap.add_argument("--scenes", default=",".join(DEFAULT_SCENES),
                     help=f"comma-separated, from {', '.join(SAMPLE_APPS + list(REAL))}")
-    ap.add_argument("--modes", default="exact,synth,hybrid:2,hybrid:4", help="comma-separated (exact is always added)")
+    ap.add_argument("--modes", default="exact,synth,hybrid:2,hybrid:4", help="comma-separated (exact is always added); MODE+grid|rows picks the warp, e.g. synth+grid")
     ap.add_argument("--views", default="9,24,48", help="numbers of views: 9 (3x3), 24 (6x4), 48 (8x6)")
     ap.add_argument("--tiles", default="210x280,420x560", help="tile sizes WxH")
     ap.add_argument("--quick", action="store_true", help="cubes, N = 9 and 48, tile 210x280, 1 round")
