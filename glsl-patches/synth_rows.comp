@@ -22,6 +22,9 @@ struct Out {
     float depth;
 };
 layout(std430, binding = 2) buffer Targets_out { Out out_pixels[]; };
+// Pixels filled because nothing of the sources landed there (disocclusions, and what comes
+// into view beyond the edge), as written: an upper bound of the holes of the final views.
+layout(std430, binding = 3) buffer Holes { uint holes; };
 uniform ivec2 u_tile;
 uniform int u_targets;
 // (s, f) times half the tile width: pixels per unit of parallax, and of focus.
@@ -50,13 +53,15 @@ bool nearer(float a, float b)
     return u_reversed == 1 ? a >= b : a <= b;
 }
 
-void put(int x, vec4 c, float z)
+bool put(int x, vec4 c, float z)
 {
     int i = out_base + x;
     if (nearer(z, out_pixels[i].depth)) {
         out_pixels[i].depth = z;
         out_pixels[i].color = packUnorm4x8(c);
+        return true;
     }
+    return false;
 }
 
 // Target pixels whose centres lie in [a, b), clamped to the row.
@@ -65,12 +70,16 @@ ivec2 covered(float a, float b)
     return ivec2(max(int(ceil(a - 0.5)), 0), min(int(ceil(b - 0.5)), width));
 }
 
-// The span [a, b) filled with one colour and depth.
-void fill(float a, float b, vec4 c, float z)
+// The span [a, b) filled with one colour and depth; `hole`: it is a stretch over a hole.
+void fill(float a, float b, vec4 c, float z, bool hole)
 {
     ivec2 r = covered(a, b);
+    uint n = 0u;
     for (int i = r.x; i < r.y; i++) {
-        put(i, c, z);
+        n += put(i, c, z) ? 1u : 0u;
+    }
+    if (hole && n > 0u) {
+        atomicAdd(holes, n);
     }
 }
 
@@ -94,9 +103,10 @@ void scan(int src, float du)
         float z = s.depth;
         if (x == 0) {
             // The border pixel also covers whatever opens up beyond the view's edge.
-            fill(-1.0e6, X, c, z);
+            fill(-1.0e6, X - 0.5, c, z, true);
+            fill(X - 0.5, X, c, z, false);
         } else if (!have) {
-            fill(X - 0.5, X, c, z);
+            fill(X - 0.5, X, c, z, false);
         } else if (abs(d - pd) <= u_threshold) {
             ivec2 r = covered(min(px, X), max(px, X));
             float inv = 1.0 / (X - px);
@@ -105,15 +115,16 @@ void scan(int src, float du)
                 put(i, mix(pc, c, t), mix(pz, z, t));
             }
         } else {
-            fill(px, px + 0.5, pc, pz);
-            fill(X - 0.5, X, c, z);
+            fill(px, px + 0.5, pc, pz, false);
+            fill(X - 0.5, X, c, z, false);
             if (X - px > 1.0) {
                 bool back = nearer(z, pz);
-                fill(px + 0.5, X - 0.5, back ? pc : c, clamp((back ? pz : z) + u_far_bias, 0.0, 1.0));
+                fill(px + 0.5, X - 0.5, back ? pc : c, clamp((back ? pz : z) + u_far_bias, 0.0, 1.0), true);
             }
         }
         if (x == width - 1) {
-            fill(X, 1.0e6, c, z);
+            fill(X, X + 0.5, c, z, false);
+            fill(X + 0.5, 1.0e6, c, z, true);
         }
         px = X;
         pz = z;

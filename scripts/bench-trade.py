@@ -37,7 +37,8 @@ QUILTS = {9: "3x3", 24: "6x4", 48: "8x6"}
 PSNR_CEILING = 60.0
 FRAME_RE = re.compile(r"frame time: median ([0-9.]+) ms over (\d+) frames")
 ERR_RE = re.compile(r"measure-error: frame (\d+): (\d+) synthesised views against exact: "
-                    r"PSNR mean ([0-9.inf]+) dB, worst ([0-9.inf]+) dB \(view (\d+)\)")
+                    r"PSNR mean ([0-9.inf]+) dB, worst ([0-9.inf]+) dB \(view (\d+)\)"
+                    r"(?:; holes filled ([0-9.]+)% of their pixels)?")
 
 
 def quilt_of(n):
@@ -149,12 +150,15 @@ def run_once(scene, mode, n, tile, a, display):
         tail = [l for l in p.stderr.splitlines() if "error" in l.lower() or "panic" in l.lower()][-2:]
         return {"error": f"status {p.returncode}, {'frame time logged' if m else 'no frame time'}"
                          + (f": {' | '.join(tail)}" if tail else ""), "stderr": p.stderr}
-    errs = [(float(x.group(3)), float(x.group(4)), int(x.group(5))) for x in ERR_RE.finditer(p.stderr)]
+    errs = [(float(x.group(3)), float(x.group(4)), int(x.group(5)), x.group(6)) for x in ERR_RE.finditer(p.stderr)]
     r = {"ms": float(m.group(1)), "frames": int(m.group(2)), "measured": len(errs)}
     if errs:
         r["psnr_mean"] = statistics.fmean(e[0] for e in errs)
         worst = min(errs, key=lambda e: e[1])
         r["psnr_worst"], r["worst_view"] = worst[1], worst[2]
+        holes = [float(e[3]) for e in errs if e[3] is not None]
+        if holes:
+            r["holes"] = statistics.fmean(holes)
     elif mode != "exact":
         r["note"] = "no measure-error line (stayed exact?)"
     return r
@@ -239,6 +243,9 @@ def summarise(configs, cell_modes, results):
                 if pm:
                     d["psnr_mean"] = statistics.median(pm)
                     d["psnr_worst"] = min(r["psnr_worst"] for r in runs if "psnr_worst" in r)
+                hs = [r["holes"] for r in runs if "holes" in r]
+                if hs:
+                    d["holes"] = statistics.median(hs)
                 d["notes"] = sorted({r["note"] for r in runs if "note" in r})
             cell[mode] = d
         exact = cell.get("exact", {}).get("ms")
@@ -252,7 +259,7 @@ def summarise(configs, cell_modes, results):
 def fmt_row(scene, n, tile, mode, d):
     q = f"{n} ({quilt_of(n)})"
     if "ms" not in d:
-        return f"| {scene} | {q} | {tile} | {mode} | failed | – | – | – |"
+        return f"| {scene} | {q} | {tile} | {mode} | failed | – | – | – | – |"
     ms = f"{d['ms']:.1f}" + (f" ({d['failed']} failed)" if d["failed"] else "")
     sp = f"{d['speedup']:.2f}×" if "speedup" in d else "–"
     if mode == "exact":
@@ -261,7 +268,8 @@ def fmt_row(scene, n, tile, mode, d):
         pm, pw = f"{d['psnr_mean']:.1f}", f"{d['psnr_worst']:.1f}"
     else:
         pm = pw = "n/a"
-    return f"| {scene} | {q} | {tile} | {mode} | {ms} | {sp} | {pm} | {pw} |"
+    holes = f"{d['holes']:.2f}" if "holes" in d else "–"
+    return f"| {scene} | {q} | {tile} | {mode} | {ms} | {sp} | {pm} | {pw} | {holes} |"
 
 
 def write_table(a, rows, elapsed):
@@ -279,10 +287,11 @@ def write_table(a, rows, elapsed):
         f"ms/frame: median over {a.rounds} alternating run(s) of the layer's own frame-time median of frames 11-{a.frames} "
         f"(frames under `--measure-error every:{a.measure_every}` left out). Speed-up: t(exact) / t(mode), same scene, N and tile. "
         f"PSNR (dB) of the synthesised views against exact, from the same runs: mean over views and measured frames, "
-        f"and the worst view of any measured frame. Took {elapsed / 60:.0f} min.",
+        f"and the worst view of any measured frame. Holes: % of synthesised pixels filled because no source pixel landed "
+        f"there (disocclusions, and beyond the view's edge; the row warp counts them, the grid does not). Took {elapsed / 60:.0f} min.",
         "",
-        "| scene | N | tile | mode | ms/frame | speed-up vs exact | PSNR mean | PSNR worst |",
-        "|---|---|---|---|---|---|---|---|",
+        "| scene | N | tile | mode | ms/frame | speed-up vs exact | PSNR mean | PSNR worst | holes % |",
+        "|---|---|---|---|---|---|---|---|---|",
     ]
     lines += [fmt_row(*r) for r in rows]
     notes = sorted({f"{r[0]} {r[3]} {quilt_of(r[1])} {r[2]}: {n}" for r in rows for n in r[4].get("notes", [])})

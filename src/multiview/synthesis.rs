@@ -49,8 +49,12 @@ pub fn end_frame(gl: &Gl, mv: &mut Multiview, frame: u64) {
         && let Some(e) = m.compare(gl, mv.info, t, &mv.plan.rendered)
     {
         let worst = e.worst().unwrap_or((0, f64::INFINITY));
+        let holes = match mv.synth.hole_fraction(gl) {
+            Some(h) if !e.views.is_empty() => format!("; holes filled {:.2}% of their pixels", h * 100.0),
+            _ => String::new(),
+        };
         log::info(format_args!(
-            "measure-error: frame {frame}: {} synthesised views against exact: PSNR mean {:.2} dB, worst {:.2} dB (view {})",
+            "measure-error: frame {frame}: {} synthesised views against exact: PSNR mean {:.2} dB, worst {:.2} dB (view {}){holes}",
             e.views.len(),
             e.mean(),
             worst.1,

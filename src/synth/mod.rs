@@ -159,6 +159,12 @@ impl Synthesizer {
         rows::run(&pass, &row_programs, out, job)
     }
 
+    /// The share of the last row warp's pixels that were filled over holes (disocclusions
+    /// and what comes into view beyond the edge); `None` for the grid. Waits for the warp.
+    pub fn hole_fraction(&self, gl: &Gl) -> Option<f64> {
+        self.row_targets.as_ref().map(|t| t.hole_fraction(gl))
+    }
+
     /// What of ours is shared with the context's share group.
     pub fn shared_objects(&self) -> LayerObjects {
         let mut o = LayerObjects::default();

@@ -54,6 +54,8 @@ pub struct RowTargets {
     packed: u32,
     warped: u32,
     params: u32,
+    /// One counter: the pixels the last warp filled over holes.
+    holes: u32,
 }
 
 /// Per target, as `Target` in synth_rows.comp (std430: vec4 then ivec4).
@@ -85,6 +87,7 @@ impl RowTargets {
             packed: storage(gl, pixels * sources * 12),
             warped: storage(gl, pixels * count * 8),
             params: storage(gl, count * std::mem::size_of::<Params>()),
+            holes: storage(gl, 4),
         }
     }
 
@@ -92,13 +95,27 @@ impl RowTargets {
         self.tile == tile && self.sources == sources && self.count == count
     }
 
-    pub fn buffers(&self) -> [u32; 3] {
-        [self.packed, self.warped, self.params]
+    pub fn buffers(&self) -> [u32; 4] {
+        [self.packed, self.warped, self.params, self.holes]
     }
 
     pub fn delete(&self, gl: &Gl) {
         // SAFETY: deleting our own objects.
-        unsafe { gl.DeleteBuffers(3, self.buffers().as_ptr()) };
+        unsafe { gl.DeleteBuffers(4, self.buffers().as_ptr()) };
+    }
+
+    /// The share of the last warp's target pixels filled over holes (waits for the warp).
+    pub fn hole_fraction(&self, gl: &Gl) -> f64 {
+        let mut n = 0u32;
+        // SAFETY: four bytes of our own buffer into a local; the binding is put back.
+        unsafe {
+            let old = crate::gl::guard::get_i(gl, COPY_READ_BUFFER_BINDING) as u32;
+            gl.BindBuffer(COPY_READ_BUFFER, self.holes);
+            gl.GetBufferSubData(COPY_READ_BUFFER, 0, 4, (&mut n as *mut u32).cast());
+            gl.BindBuffer(COPY_READ_BUFFER, old);
+        }
+        let pixels = self.tile.0.max(1) as f64 * self.tile.1.max(1) as f64 * self.count.max(1) as f64;
+        f64::from(n) / pixels
     }
 }
 
@@ -164,8 +181,11 @@ fn warp_rows(pass: &Pass, programs: &RowPrograms, out: &RowTargets, job: &Job) {
         gl.BindBuffer(ARRAY_BUFFER, out.params);
         let bytes = (params.len() * std::mem::size_of::<Params>()) as isize;
         gl.BufferSubData(ARRAY_BUFFER, 0, bytes, params.as_ptr().cast());
+        gl.BindBuffer(ARRAY_BUFFER, out.holes);
+        gl.BufferSubData(ARRAY_BUFFER, 0, 4, [0u32].as_ptr().cast());
         gl.MemoryBarrier(SHADER_STORAGE_BARRIER_BIT);
         gl.BindBufferBase(SHADER_STORAGE_BUFFER, 0, out.params);
+        gl.BindBufferBase(SHADER_STORAGE_BUFFER, 3, out.holes);
         gl.BindBufferBase(SHADER_STORAGE_BUFFER, 1, out.packed);
         gl.BindBufferBase(SHADER_STORAGE_BUFFER, 2, out.warped);
         gl.UseProgram(p);

@@ -146,6 +146,14 @@ fn measured_error_is_logged_and_agrees_with_exact() {
     let outside: f64 = [0, 1, 3, 4].iter().map(|&i| psnr[i]).sum::<f64>() / 4.0;
     eprintln!("{line}\noutside the layer: {outside:.2} dB");
     assert!((mean - outside).abs() < 0.5, "layer {mean} dB, outside {outside:.2} dB");
+    // Views one and two steps from the centre open up the edge and disocclusions: some
+    // pixels are filled, never most of them.
+    let holes: f64 = line
+        .split("holes filled ")
+        .nth(1)
+        .and_then(|r| r.split('%').next()?.parse().ok())
+        .unwrap_or_else(|| panic!("no hole fraction: {line}"));
+    assert!(holes > 0.0 && holes < 20.0, "{line}");
 }
 
 /// Where the synthesis passes cannot run (an ES context), the layer says so once and renders
