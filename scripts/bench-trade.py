@@ -181,7 +181,11 @@ def main():
     ap.add_argument("--cache", default=os.path.join(os.environ.get("XDG_CACHE_HOME", os.path.expanduser("~/.cache")), "holoinject", "traces"),
                     help="where apitrace recordings are kept")
     ap.add_argument("--out", default=os.path.join(ROOT, "scripts", "results"))
+    ap.add_argument("--replot", metavar="TRADE_MD", help="only redraw OUT/trade.png from a table this script wrote")
     a = ap.parse_args()
+    if a.replot:
+        plot(a, rows_of_table(a.replot))
+        return
     if a.quick:
         a.scenes, a.views, a.tiles, a.rounds = "cubes", "9,48", "210x280", 1
     a.layer_arg = [x for arg in a.layer_arg for x in (arg.split("=", 1) if arg.startswith("--") and "=" in arg else [arg])]
@@ -301,6 +305,26 @@ def write_table(a, rows, elapsed):
     with open(os.path.join(a.out, "trade.md"), "w") as f:
         f.write(text)
     print(text)
+
+
+def rows_of_table(path):
+    """(scene, n, tile, mode, {'ms', 'psnr_mean'}) rows back from a trade.md table."""
+    rows = []
+    for line in open(path):
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if len(cells) < 7 or not cells[1].split(" ")[0].isdigit():
+            continue
+        d = {}
+        try:
+            d["ms"] = float(cells[4].split(" ")[0])
+        except ValueError:
+            pass
+        try:
+            d["psnr_mean"] = float(cells[6])
+        except ValueError:
+            pass
+        rows.append((cells[0], int(cells[1].split(" ")[0]), cells[2], cells[3], d))
+    return rows
 
 
 def plot(a, rows):
