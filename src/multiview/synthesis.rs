@@ -135,14 +135,22 @@ fn try_warp(gl: &Gl, mv: &mut Multiview) -> Result<(), String> {
         depthiness: if model.is_some() { rig.depthiness } else { 0.0 },
         focus: rig.focus,
         threshold: mv.settings.synth_threshold,
+        per_pixel: mv.plan.per_pixel,
     };
     if !ANNOUNCED.swap(true, std::sync::atomic::Ordering::Relaxed) {
+        let how = if job.per_pixel {
+            "splatted per pixel, holes filled by pull-push".to_string()
+        } else {
+            format!(
+                "warped by an adaptive quad grid (cells 32 px down to 1 px, split above {} px of \
+                 disparity range)",
+                job.threshold
+            )
+        };
         log::info(format_args!(
-            "synthesis: {} of {} views rendered, the others warped by an adaptive quad grid \
-             (cells 32 px down to 1 px, split above {} px of disparity range)",
+            "synthesis: {} of {} views rendered, the others {how}",
             sources.len(),
             layout.views(),
-            job.threshold
         ));
     }
     let info = mv.info;

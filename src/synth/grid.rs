@@ -67,11 +67,11 @@ pub fn guard(gl: &Gl, info: GlInfo) -> StateGuard<'_> {
 }
 
 /// The context's clip depth mode is `GL_ZERO_TO_ONE` (GL 4.5 `glClipControl`).
-fn zero_to_one(gl: &Gl) -> bool {
+pub(super) fn zero_to_one(gl: &Gl) -> bool {
     gl.ClipControl.is_loaded() && crate::gl::guard::get_i(gl, CLIP_DEPTH_MODE) as u32 == ZERO_TO_ONE
 }
 
-fn loc(gl: &Gl, program: u32, name: &str) -> i32 {
+pub(super) fn loc(gl: &Gl, program: u32, name: &str) -> i32 {
     let c = CString::new(name).unwrap_or_default();
     // SAFETY: a NUL-terminated name for our linked program.
     unsafe { gl.GetUniformLocation(program, c.as_ptr()) }
@@ -120,7 +120,7 @@ impl Pass<'_> {
 
     /// The source's colour and depth into layer `j` of our arrays (depth blits need the
     /// source's own format, which our array has).
-    fn copy_source(&self, j: usize, s: &Source, job: &Job) -> Result<(), String> {
+    pub(super) fn copy_source(&self, j: usize, s: &Source, job: &Job) -> Result<(), String> {
         let gl = self.gl;
         let (tw, th) = job.tile;
         let blit = |read: u32, r: [i32; 4], mask: u32, filter: GLenum| {

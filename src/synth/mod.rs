@@ -13,10 +13,15 @@
 //! 3. per target: its tile's depth cleared, then one instanced draw of each source's leaves,
 //!    each corner moved by its disparity, depth-tested so nearer surfaces win.
 //!
+//! `synth:pixel` (`pixel`) replaces steps 1 to 3 by a per-pixel splat and pull-push hole
+//! filling, from the same source copies: the baseline the grid is measured against.
+//!
 //! Nothing here waits for the GPU or reads anything back.
 
 pub mod disparity;
 mod grid;
+mod pixel;
+mod pull_push;
 mod resources;
 
 pub use disparity::ParallaxModel;
@@ -58,6 +63,8 @@ pub struct Job<'a> {
     pub focus: f64,
     /// Largest parallax range of a grid cell, in pixels of the outermost target view.
     pub threshold: f64,
+    /// Splat every pixel and fill the holes (`synth:pixel`) instead of warping the grid.
+    pub per_pixel: bool,
 }
 
 /// Per-context synthesis state: programs, working textures, a framebuffer and vertex array.
@@ -67,6 +74,7 @@ pub struct Synthesizer {
     resources: Option<resources::Resources>,
     fbo: u32,
     vao: u32,
+    pixel: pixel::PixelSynth,
 }
 
 impl Synthesizer {
@@ -121,7 +129,11 @@ impl Synthesizer {
             fbo: self.fbo,
             vao: self.vao,
         };
-        pass.run(job)
+        if job.per_pixel {
+            self.pixel.run(gl, info, &pass, job)
+        } else {
+            pass.run(job)
+        }
     }
 
     /// What of ours is shared with the context's share group.
@@ -134,6 +146,7 @@ impl Synthesizer {
             o.textures.extend(r.textures());
             o.buffers.extend(r.buffers());
         }
+        self.pixel.shared_objects(&mut o);
         o
     }
 }
