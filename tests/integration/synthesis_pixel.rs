@@ -27,7 +27,10 @@ fn pixel_views_match_exact_fill_holes_and_show_depth() {
     let (e, s) = (read_png(&exact), read_png(&pixel));
     let psnr = tile_psnr(&e, &s, 5, 1);
     eprintln!("synth:pixel against exact, per view: {psnr:.2?}");
-    assert!(psnr[2].is_infinite(), "the rendered centre view must be exact: {psnr:?}");
+    assert!(
+        psnr[2].is_infinite(),
+        "the rendered centre view must be exact: {psnr:?}"
+    );
     for (i, p) in psnr.iter().enumerate().filter(|&(i, _)| i != 2) {
         assert!(*p >= 27.0, "view {i}: {p:.2} dB against exact ({psnr:.2?})");
         let copied = tile_psnr(&tile(&e, 5, 1, i as u32), &tile(&s, 5, 1, 2), 1, 1)[0];
@@ -37,7 +40,11 @@ fn pixel_views_match_exact_fill_holes_and_show_depth() {
         );
     }
     for i in 0..5 {
-        assert_eq!(black_pixels(&e, 5, i), 0, "exact view {i} has black pixels: the hole check means nothing");
+        assert_eq!(
+            black_pixels(&e, 5, i),
+            0,
+            "exact view {i} has black pixels: the hole check means nothing"
+        );
         assert_eq!(black_pixels(&s, 5, i), 0, "view {i}: holes left unfilled");
     }
     assert_depth_parallax(&s, &pixel, 5, 40, "cubes under synth:pixel");
@@ -75,7 +82,15 @@ fn per_pixel_synthesis_raises_no_gl_error() {
     for name in ["cubes", "legacy"] {
         let mut options = vec!["--output", "quilt", "--quilt", "5x1", "--mode", "synth:pixel"];
         options.extend(RIG);
-        let args = ["--backend", "glx", "--size", "160x120", "--frames", "3", "--debug-output"];
+        let args = [
+            "--backend",
+            "glx",
+            "--size",
+            "160x120",
+            "--frames",
+            "3",
+            "--debug-output",
+        ];
         let out = under_layer(&options, app(name), &args, &[]);
         assert_success(&out, name);
         assert!(
