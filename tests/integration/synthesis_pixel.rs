@@ -11,9 +11,9 @@ fn black_pixels(q: &Image, cols: u32, i: u32) -> usize {
 }
 
 /// One rendered view, four splatted: the centre is exact, the others match exact's views to
-/// a bound measured on this scene (28.2-31.4 dB on 5 runs; the grid warp scores 27.4-29.2,
-/// a view merely copied from the centre 15-17), they show depth as exact does, and pull-push
-/// left no hole.
+/// a bound a little below what this scene measures (27.7-30.9 dB, the outer views lowest,
+/// the same on every run; the grid warp scores 27.4-29.1, a view merely copied from the
+/// centre 15-17), they show depth as exact does, and pull-push left no hole.
 #[test]
 fn pixel_views_match_exact_fill_holes_and_show_depth() {
     require_display();
@@ -51,7 +51,7 @@ fn pixel_views_match_exact_fill_holes_and_show_depth() {
 }
 
 /// K = 2 per pixel: the two outer views rendered, the middle three splatted from both
-/// (nearer wins). Measured 27.5-28.1 dB on 3 runs.
+/// (nearer wins). Measured 30.5-31.3 dB on every run (the grid's `hybrid:2`: 26.7-27.2).
 #[test]
 fn hybrid_pixel_splats_from_both_rendered_views() {
     require_display();
@@ -63,7 +63,7 @@ fn hybrid_pixel_splats_from_both_rendered_views() {
     eprintln!("hybrid:2:pixel against exact, per view: {psnr:.2?}");
     assert!(psnr[0].is_infinite() && psnr[4].is_infinite(), "{psnr:?}");
     for p in &psnr[1..4] {
-        assert!(*p >= 26.0, "{psnr:.2?}");
+        assert!(*p >= 29.5, "{psnr:.2?}");
     }
 }
 
