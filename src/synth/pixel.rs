@@ -63,6 +63,21 @@ fn compatibility(gl: &Gl) -> bool {
     get_i(gl, CONTEXT_PROFILE_MASK) as u32 & CONTEXT_COMPATIBILITY_PROFILE_BIT != 0
 }
 
+/// One-pixel points whatever the app left set; no sampler object of the app's overriding our
+/// textures' filtering (the grid's guard restores units 0..5).
+fn neutral_point_state(gl: &Gl, compatibility: bool) {
+    // SAFETY: state the guards restore; POINT_SMOOTH only where it exists.
+    unsafe {
+        gl.Enable(PROGRAM_POINT_SIZE);
+        if compatibility {
+            gl.Disable(POINT_SMOOTH);
+        }
+        for unit in 0..5 {
+            gl.BindSampler(unit, 0);
+        }
+    }
+}
+
 /// What the per-pixel passes change beyond the grid's guard: the 2D texture units of the
 /// pyramid and the point state.
 fn guard(gl: &Gl, info: GlInfo, compatibility: bool) -> StateGuard<'_> {
@@ -76,43 +91,15 @@ impl PixelSynth {
     /// Splats and fills every target of `job`, using the grid's source copies. The caller
     /// holds the grid's guard and has set the neutral pass state.
     pub fn run(&mut self, gl: &Gl, info: GlInfo, grid: &grid::Pass, job: &Job) -> Result<(), String> {
-        let programs = match &self.programs {
-            Some(p) => p.clone()?,
-            None => {
-                let p = Programs::link(gl, info);
-                self.programs = Some(p.clone());
-                p?
-            }
-        };
-        if self.fbos[0] == 0 {
-            // SAFETY: our own framebuffers (per context).
-            unsafe { gl.GenFramebuffers(2, self.fbos.as_mut_ptr()) };
-        }
-        if !self.canvas.as_ref().is_some_and(|c| c.fits(job.tile)) {
-            if let Some(old) = self.canvas.take() {
-                old.delete(gl);
-            }
-            let canvas = Canvas::create(gl, job.tile);
-            canvas.attach_level0(gl, self.fbos[0]);
-            self.canvas = Some(canvas);
-        }
+        let programs = self.programs(gl, info)?;
+        self.make_canvas(gl, job.tile);
         let canvas = self.canvas.as_ref().ok_or("no canvas")?;
         for (j, source) in job.sources.iter().enumerate() {
             grid.copy_source(j, source, job)?;
         }
         let compatibility = compatibility(gl);
         let _guard = guard(gl, info, compatibility);
-        // SAFETY: the point state the guard restores; sampler objects the app bound would
-        // override our textures' filtering (the grid's guard restores units 0..5).
-        unsafe {
-            gl.Enable(PROGRAM_POINT_SIZE);
-            if compatibility {
-                gl.Disable(POINT_SMOOTH);
-            }
-            for unit in 0..5 {
-                gl.BindSampler(unit, 0);
-            }
-        }
+        neutral_point_state(gl, compatibility);
         let splat = Splat {
             gl,
             program: programs.splat,
@@ -135,6 +122,34 @@ impl PixelSynth {
             fill.run(job.dest_fbo, t.rect);
         }
         Ok(())
+    }
+
+    /// Linked once per context; a failure is kept and answered again.
+    fn programs(&mut self, gl: &Gl, info: GlInfo) -> Result<Programs, String> {
+        match &self.programs {
+            Some(p) => p.clone(),
+            None => {
+                let p = Programs::link(gl, info);
+                self.programs = Some(p.clone());
+                p
+            }
+        }
+    }
+
+    /// The canvas for tiles of `tile`, (re)made when the tile changes, with its framebuffers.
+    fn make_canvas(&mut self, gl: &Gl, tile: (i32, i32)) {
+        if self.fbos[0] == 0 {
+            // SAFETY: our own framebuffers (per context).
+            unsafe { gl.GenFramebuffers(2, self.fbos.as_mut_ptr()) };
+        }
+        if !self.canvas.as_ref().is_some_and(|c| c.fits(tile)) {
+            if let Some(old) = self.canvas.take() {
+                old.delete(gl);
+            }
+            let canvas = Canvas::create(gl, tile);
+            canvas.attach_level0(gl, self.fbos[0]);
+            self.canvas = Some(canvas);
+        }
     }
 
     /// What of ours is shared with the context's share group.
