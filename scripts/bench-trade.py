@@ -170,7 +170,7 @@ def main():
     ap.add_argument("--frames", type=int, default=40, help="frames per run, timed from frame 11 (default 40)")
     ap.add_argument("--scenes", default=",".join(DEFAULT_SCENES),
                     help=f"comma-separated, from {', '.join(SAMPLE_APPS + list(REAL))}")
-    ap.add_argument("--modes", default="exact,synth,hybrid:2,hybrid:4", help="comma-separated (exact is always added); MODE+grid|rows picks the warp, e.g. synth+grid")
+    ap.add_argument("--modes", default="exact,synth,synth+grid,synth:pixel,hybrid:2,hybrid:4", help="comma-separated (exact is always added); MODE+grid|rows picks the warp, e.g. synth+grid")
     ap.add_argument("--views", default="9,24,48", help="numbers of views: 9 (3x3), 24 (6x4), 48 (8x6)")
     ap.add_argument("--tiles", default="210x280,420x560", help="tile sizes WxH")
     ap.add_argument("--quick", action="store_true", help="cubes, N = 9 and 48, tile 210x280, 1 round")

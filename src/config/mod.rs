@@ -80,6 +80,8 @@ pub enum Mode {
     SynthPixel,
     /// K evenly spaced views rendered, the others warped from their two nearest.
     Hybrid(u32),
+    /// As `Hybrid`, the others splatted per pixel from their two nearest.
+    HybridPixel(u32),
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]

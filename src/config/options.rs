@@ -44,7 +44,7 @@ pub static OPTIONS: &[OptDef] = &[
         |v| super::parse::weave_filter(v).map(|_| ())),
     opt("preset", "NAME|PATH|none", "per-application preset (TOML): a name in presets/ or ~/.config/holoinject/presets/, a file, or none; default: chosen by the program's name",
         |v| super::preset::load_spec(v, &|k| std::env::var(k).ok()).map(|_| ())),
-    opt("mode", "exact|synth|hybrid:K", "how views are made: exact re-renders every view (default); synth renders the centre and warps the rest; hybrid:K renders K and warps the rest from the two nearest",
+    opt("mode", "exact|synth|synth:pixel|hybrid:K[:pixel]", "how views are made: exact re-renders every view (default); synth renders the centre and warps the rest; hybrid:K renders K and warps the rest from the two nearest; :pixel splats every pixel and fills holes by pull-push instead of warping a grid (the baseline)",
         |v| super::parse::mode(v).map(|_| ())),
     opt("synth-threshold", "PX", "synthesis: split a grid cell while its disparity range in the outermost view exceeds PX tile pixels (default 1)",
         |v| super::parse::synth_threshold(v).map(|_| ())),

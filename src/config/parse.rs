@@ -32,13 +32,23 @@ pub fn mode(v: &str) -> Result<Mode, String> {
     match v.trim() {
         "exact" => Ok(Mode::Exact),
         "synth" => Ok(Mode::Synth),
-        "synth:pixel" | "auto" => Err(format!(
-            "`{v}`: not available in this build yet; use exact, synth or hybrid:K"
+        "synth:pixel" => Ok(Mode::SynthPixel),
+        "auto" => Err(format!(
+            "`{v}`: not available in this build yet; use exact, synth[:pixel] or hybrid:K[:pixel]"
         )),
-        m => match m.strip_prefix("hybrid:").map(str::parse::<u32>) {
-            Some(Ok(k)) if (1..=MAX_VIEWS).contains(&k) => Ok(Mode::Hybrid(k)),
-            _ => Err(format!("`{v}`: expected exact|synth|hybrid:K (K ≥ 1 rendered views)")),
-        },
+        m => {
+            let (k, pixel) = match m.strip_suffix(":pixel") {
+                Some(k) => (k, true),
+                None => (m, false),
+            };
+            match k.strip_prefix("hybrid:").map(str::parse::<u32>) {
+                Some(Ok(k)) if (1..=MAX_VIEWS).contains(&k) && pixel => Ok(Mode::HybridPixel(k)),
+                Some(Ok(k)) if (1..=MAX_VIEWS).contains(&k) => Ok(Mode::Hybrid(k)),
+                _ => Err(format!(
+                    "`{v}`: expected exact|synth[:pixel]|hybrid:K[:pixel] (K ≥ 1 rendered views)"
+                )),
+            }
+        }
     }
 }
 
@@ -189,7 +199,10 @@ mod tests {
     fn modes() {
         assert_eq!(mode("exact"), Ok(Mode::Exact));
         assert_eq!(mode("hybrid:3"), Ok(Mode::Hybrid(3)));
-        assert!(mode("synth:pixel").unwrap_err().contains("not available"));
+        assert_eq!(mode("synth:pixel"), Ok(Mode::SynthPixel));
+        assert_eq!(mode("hybrid:2:pixel"), Ok(Mode::HybridPixel(2)));
+        assert!(mode("hybrid:0:pixel").unwrap_err().contains("expected"));
+        assert!(mode("exact:pixel").unwrap_err().contains("expected"));
         assert!(mode("auto").unwrap_err().contains("not available"));
         assert!(mode("hybrid:0").unwrap_err().contains("expected"));
         assert!(mode("hybrid:x").unwrap_err().contains("expected"));

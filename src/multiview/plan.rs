@@ -36,6 +36,7 @@ impl ViewPlan {
             Mode::Synth => (vec![n / 2], false),
             Mode::SynthPixel => (vec![n / 2], true),
             Mode::Hybrid(k) => (spaced(k, n), false),
+            Mode::HybridPixel(k) => (spaced(k, n), true),
         };
         let mut mask = vec![false; n as usize];
         for &r in &rendered {

@@ -140,18 +140,28 @@ fn try_warp(gl: &Gl, mv: &mut Multiview) -> Result<(), String> {
         focus: rig.focus,
         threshold: mv.settings.synth_threshold,
         rows: mv.settings.synth_warp == crate::config::SynthWarp::Rows,
+        per_pixel: mv.plan.per_pixel,
     };
     if !ANNOUNCED.swap(true, std::sync::atomic::Ordering::Relaxed) {
-        let how = if job.rows {
-            "row by row (neighbouring pixels warped as one piece unless their disparities differ by more than"
+        let how = if job.per_pixel {
+            "splatted per pixel, holes filled by pull-push".to_string()
+        } else if job.rows {
+            format!(
+                "warped row by row (neighbouring pixels as one piece unless their disparities \
+                 differ by more than {} px)",
+                job.threshold
+            )
         } else {
-            "by an adaptive quad grid (cells 32 px down to 1 px, split above"
+            format!(
+                "warped by an adaptive quad grid (cells 32 px down to 1 px, split above {} px of \
+                 disparity range)",
+                job.threshold
+            )
         };
         log::info(format_args!(
-            "synthesis: {} of {} views rendered, the others warped {how} {} px)",
+            "synthesis: {} of {} views rendered, the others {how}",
             sources.len(),
             layout.views(),
-            job.threshold
         ));
     }
     let info = mv.info;

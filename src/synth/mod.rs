@@ -13,11 +13,16 @@
 //! 3. per target: its tile's depth cleared, then one instanced draw of each source's leaves,
 //!    each corner moved by its disparity, depth-tested so nearer surfaces win.
 //!
+//! `synth:pixel` (`pixel`) replaces steps 1 to 3 by a per-pixel splat and pull-push hole
+//! filling, from the same source copies: the baseline the grid is measured against.
+//!
 //! Nothing here waits for the GPU or reads anything back.
 
 pub mod disparity;
 mod grid;
+mod pixel;
 mod profile;
+mod pull_push;
 mod resources;
 mod rows;
 
@@ -63,6 +68,8 @@ pub struct Job<'a> {
     pub threshold: f64,
     /// Warp row by row (`rows`) instead of by the quad grid.
     pub rows: bool,
+    /// Splat every pixel and fill the holes (`synth:pixel`) instead of warping the grid.
+    pub per_pixel: bool,
 }
 
 /// Per-context synthesis state: programs, working textures, a framebuffer and vertex array.
@@ -74,6 +81,7 @@ pub struct Synthesizer {
     row_targets: Option<rows::RowTargets>,
     fbo: u32,
     vao: u32,
+    pixel: pixel::PixelSynth,
 }
 
 impl Synthesizer {
@@ -96,7 +104,7 @@ impl Synthesizer {
                 p?
             }
         };
-        let row_programs = if job.rows {
+        let row_programs = if job.rows && !job.per_pixel {
             Some(match &self.row_programs {
                 Some(p) => p.clone()?,
                 None => {
@@ -140,6 +148,9 @@ impl Synthesizer {
             fbo: self.fbo,
             vao: self.vao,
         };
+        if job.per_pixel {
+            return self.pixel.run(gl, info, &pass, job);
+        }
         let Some(row_programs) = row_programs else {
             return pass.run(job);
         };
@@ -181,6 +192,7 @@ impl Synthesizer {
         if let Some(t) = &self.row_targets {
             o.buffers.extend(t.buffers());
         }
+        self.pixel.shared_objects(&mut o);
         o
     }
 }

@@ -20,3 +20,4 @@ mod real_programs;
 mod reattachment;
 mod sample_apps;
 mod synthesis;
+mod synthesis_pixel;

@@ -7,11 +7,11 @@ use std::path::{Path, PathBuf};
 const SIZE: &str = "320x240";
 /// The rig of the sample apps' reference-quilt tests: about 19 px of disparity at infinity
 /// in the outer views of a 320-px tile.
-const RIG: [&str; 6] = ["--depthiness", "0.12", "--convergence", "9", "--focus", "0"];
+pub const RIG: [&str; 6] = ["--depthiness", "0.12", "--convergence", "9", "--focus", "0"];
 
 /// Frame 3 of `app` under the layer as a `quilt` quilt made in `mode`; returns the quilt
 /// image's path and the layer's log.
-fn quilt_in(dir: &Path, app_name: &str, quilt: &str, mode: &str, extra: &[&str]) -> (PathBuf, String) {
+pub fn quilt_in(dir: &Path, app_name: &str, quilt: &str, mode: &str, extra: &[&str]) -> (PathBuf, String) {
     let dump = dir.join(mode.replace(':', "-"));
     let mut options = vec!["--log", "info", "--output", "quilt", "--quilt", quilt, "--mode", mode];
     options.extend(RIG);
@@ -96,10 +96,15 @@ fn hybrid_warps_between_rendered_views() {
 /// pixels are the same in all tiles, and the same as exact's.
 #[test]
 fn hud_stays_in_place_in_every_synthesised_view() {
+    assert_hud_in_place("synth_hud", "synth");
+}
+
+/// `legacy`'s HUD square under `mode`: the same in every tile, and the same as exact's.
+pub fn assert_hud_in_place(test: &str, mode: &str) {
     require_display();
-    let dir = temp_dir("synth_hud");
+    let dir = temp_dir(test);
     let (exact, _) = quilt_in(&dir, "legacy", "5x1", "exact", &[]);
-    let (synth, _) = quilt_in(&dir, "legacy", "5x1", "synth", &[]);
+    let (synth, _) = quilt_in(&dir, "legacy", "5x1", mode, &[]);
     let (e, s) = (read_png(&exact), read_png(&synth));
     let centre = tile(&e, 5, 1, 2);
     // The white square legacy draws 10..40 px from the bottom-right corner (GL coordinates),
