@@ -1,0 +1,93 @@
+//! `--fbo-scale`: the layers of the programs' own framebuffers at a smaller resolution,
+//! against `--fbo-scale window` (the program's own) of the same frame. OSMesa, so no X
+//! server is needed; `MESA_DEBUG=1` makes Mesa print every GL error as it is raised.
+
+use crate::util::*;
+use std::path::{Path, PathBuf};
+
+/// A 640x480 program in 160x120 tiles: `tile` scales its layers by 0.25.
+const SIZE: &str = "640x480";
+const QUILT: &str = "5x1";
+const TILE: &str = "160x120";
+/// The synthesis tests' rig, with convergence fixed so that a frame's views do not depend on
+/// what earlier frames' depth said.
+const RIG: [&str; 6] = ["--depthiness", "0.12", "--convergence", "9", "--focus", "0"];
+
+/// Lowest per-view PSNR of `tile` against `window` accepted. Measured on these scenes at
+/// this size (worst view): framebuffers 29.8 dB, bloom 35.4 dB. The difference is the
+/// trade itself: passes drawn at a quarter of the resolution, kernels in the layers' texels.
+/// A view drawn from the wrong layer, or a layer mapped at the wrong scale, scores far
+/// lower (about 15 dB: the centre view copied into the others).
+const MIN_PSNR: [(&str, f64); 2] = [("framebuffers", 27.0), ("bloom", 32.0)];
+
+/// Frame 3 of `app` (with `app_args`) under the layer with `--fbo-scale scale`: the quilt's
+/// path and stderr (the layer's log at `info`, and Mesa's error lines).
+fn quilt_at(dir: &Path, app_name: &str, scale: &str, app_args: &[&str]) -> (PathBuf, String) {
+    let dump = dir.join(format!("{app_name}-{scale}"));
+    let mut options = vec!["--log", "info", "--output", "quilt", "--quilt", QUILT, "--tile", TILE];
+    options.extend(["--fbo-scale", scale]);
+    options.extend(RIG);
+    options.extend(dump_and_exit_at(&dump, "3"));
+    let mut args = vec!["--backend", "osmesa", "--size", SIZE, "--frames", "3"];
+    args.extend_from_slice(app_args);
+    let out = under_layer(&options, app(app_name), &args, &[MESA_DEBUG_ENV]);
+    let what = format!("{app_name} --fbo-scale {scale}");
+    assert_success(&out, &what);
+    assert_layer_loaded(&out);
+    assert_no_gl_error(&out);
+    let err = stderr(&out);
+    assert!(!err.contains("holoinject: warn"), "{what}:\n{err}");
+    (dump.join(format!("f000003_qs{QUILT}a1.3333.png")), err)
+}
+
+/// Multi-pass scenes with `tile` layers: every view close to `window`'s, depth still moving
+/// views apart, no GL error that `window` does not have.
+#[test]
+fn tile_layers_keep_multipass_views_close_to_window() {
+    let dir = temp_dir("fbo_scale_tile");
+    for (name, min) in MIN_PSNR {
+        let (window, window_log) = quilt_at(&dir, name, "window", &[]);
+        let (tile, tile_log) = quilt_at(&dir, name, "tile", &[]);
+        assert!(
+            tile_log.contains("layers (160x120, scaled by 0.250x0.250)"),
+            "{name}: no scaled shadow in the log:\n{tile_log}"
+        );
+        assert!(!window_log.contains("scaled by"), "{window_log}");
+        let (w, t) = (read_png(&window), read_png(&tile));
+        let psnr = tile_psnr(&w, &t, 5, 1);
+        let mean = psnr.iter().sum::<f64>() / psnr.len() as f64;
+        eprintln!("{name}: --fbo-scale tile against window, per view: {psnr:.2?} dB (mean {mean:.2})");
+        for (i, p) in psnr.iter().enumerate() {
+            assert!(*p >= min, "{name}: view {i}: {p:.2} dB against window, at least {min} expected ({psnr:.2?})");
+        }
+        assert_depth_parallax(&t, &tile, 5, 40, &format!("{name} --fbo-scale tile"));
+        assert_no_added_gl_errors(&window_log, &tile_log, &format!("{name} --fbo-scale tile"));
+    }
+}
+
+/// `0.5` halves every layer, and says so once per framebuffer.
+#[test]
+fn fbo_scale_half_halves_the_layers() {
+    let dir = temp_dir("fbo_scale_half");
+    let (_, window_log) = quilt_at(&dir, "framebuffers", "window", &[]);
+    let (half, log) = quilt_at(&dir, "framebuffers", "0.5", &[]);
+    let line = "shadowed with 5 layers (320x240, scaled by 0.500x0.500)";
+    assert_eq!(log.matches(line).count(), 1, "{log}");
+    assert!(window_log.contains("shadowed with 5 layers (640x480)"), "{window_log}");
+    assert!(has_content(&half));
+}
+
+/// A pass reading its texels by pixel address (`texelFetch` at `gl_FragCoord`) cannot read a
+/// scaled layer: that framebuffer stays at the program's size (said once), and once that is
+/// decided the frame is `window`'s bit for bit.
+#[test]
+fn texel_fetch_keeps_the_program_size() {
+    let dir = temp_dir("fbo_scale_fetch");
+    let fetch = ["--texel-fetch"];
+    let (window, _) = quilt_at(&dir, "framebuffers", "window", &fetch);
+    let (tile, log) = quilt_at(&dir, "framebuffers", "tile", &fetch);
+    let said = "layers at the program's size (a program drawing into it or sampling it reads texelFetch)";
+    assert_eq!(log.matches(said).count(), 1, "{log}");
+    assert!(has_content(&window));
+    assert_identical(&window, &tile);
+}
