@@ -30,12 +30,18 @@ pub fn context_scale(mv: &Multiview) -> LayerScale {
     }
 }
 
-/// The scale of a shadow of `fbo` over `attached`.
-pub fn for_framebuffer(mv: &Multiview, _fbo: u32, attached: &[(GLenum, AppImage, Storage)]) -> LayerScale {
+/// The scale of a shadow over `attached`. When one of them must stay at the app's size, all
+/// of them are remembered so: an image shared with another framebuffer then has one scale
+/// there too, instead of being made again at each framebuffer's scale in turn.
+pub fn for_framebuffer(mv: &mut Multiview, attached: &[(GLenum, AppImage, Storage)]) -> LayerScale {
     let full = attached
         .iter()
         .any(|(_, app, s)| s.samples > 0 || mv.full_size.contains(app));
-    if full { LayerScale::ONE } else { context_scale(mv) }
+    if !full {
+        return context_scale(mv);
+    }
+    mv.full_size.extend(attached.iter().map(|(_, app, _)| *app));
+    LayerScale::ONE
 }
 
 /// ", scaled by SXxSY" for the shadow log line, or nothing at the app's size.

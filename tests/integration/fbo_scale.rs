@@ -91,3 +91,31 @@ fn texel_fetch_keeps_the_program_size() {
     assert!(has_content(&window));
     assert_identical(&window, &tile);
 }
+
+/// The README's figures: `tile` against `window` for the multi-pass sample apps at 800x600
+/// in a 5x9 quilt of 256x256 tiles (frame 3, auto convergence). Prints each app's per-view
+/// PSNR mean and worst; asserts nothing. Run with `--ignored --nocapture`.
+#[test]
+#[ignore]
+fn measure_tile_against_window_5x9() {
+    let dir = temp_dir("fbo_scale_measure");
+    for name in ["framebuffers", "bloom", "deferred", "ssao"] {
+        let quilt = |scale: &str| {
+            let dump = dir.join(format!("{name}-{scale}"));
+            let mut options = vec!["--output", "quilt", "--quilt", "5x9", "--tile", "256x256", "--fbo-scale", scale];
+            options.extend(dump_and_exit_at(&dump, "3"));
+            let args = ["--backend", "osmesa", "--size", "800x600", "--frames", "3"];
+            let out = under_layer(&options, app(name), &args, &[]);
+            assert_success(&out, name);
+            read_png(&dump.join("f000003_qs5x9a1.3333.png"))
+        };
+        let psnr = tile_psnr(&quilt("window"), &quilt("tile"), 5, 9);
+        let mean = psnr.iter().sum::<f64>() / psnr.len() as f64;
+        let (worst, view) = psnr
+            .iter()
+            .enumerate()
+            .map(|(i, p)| (*p, i))
+            .fold((f64::INFINITY, 0), |a, b| if b.0 < a.0 { b } else { a });
+        eprintln!("{name}: tile vs window, 5x9 of 256x256 at 800x600: PSNR mean {mean:.2} dB, worst {worst:.2} dB (view {view})");
+    }
+}
