@@ -9,7 +9,8 @@
 //! coordinates needs nothing; `textureSize` answers the layer's size, so kernels written in
 //! texels (blur steps of `1 / textureSize`) keep their size in texels, as they would if the
 //! window were the tile. Programs whose integer texel addressing cannot be mapped (see
-//! `shader::fragcoord::pixel_addressing`, `downscale`) keep their framebuffers' layers at the app's size.
+//! `shader::fragcoord::pixel_addressing`, `downscale`) keep their framebuffers' layers at the
+//! app's size.
 //!
 //! The factors are fixed per image when it is made: a later window resize changes what new
 //! images get, and each shadow maps with its own images' factors.

@@ -13,12 +13,13 @@ const TILE: &str = "160x120";
 /// what earlier frames' depth said.
 const RIG: [&str; 6] = ["--depthiness", "0.12", "--convergence", "9", "--focus", "0"];
 
-/// Lowest per-view PSNR of `tile` against `window` accepted. Measured on these scenes at
-/// this size (worst view): framebuffers 29.8 dB, bloom 35.4 dB. The difference is the
-/// trade itself: passes drawn at a quarter of the resolution, kernels in the layers' texels.
-/// A view drawn from the wrong layer, or a layer mapped at the wrong scale, scores far
-/// lower (about 15 dB: the centre view copied into the others).
-const MIN_PSNR: [(&str, f64); 2] = [("framebuffers", 27.0), ("bloom", 32.0)];
+/// Lowest per-view PSNR of `tile` against `window` accepted, per app. Measured here (worst
+/// view of five): framebuffers 22.0 dB, bloom 23.2, deferred 31.8, ssao 30.9; bounds 2 dB
+/// below. The difference is the trade itself: passes drawn at a quarter of the resolution,
+/// and kernels in texels (framebuffers' sharpen, bloom's blur) four times wider on screen.
+/// A layer mapped at the wrong scale, or a view drawn from another view's layer, is checked
+/// against the outer views' own neighbours below.
+const MIN_PSNR: [(&str, f64); 4] = [("framebuffers", 20.0), ("bloom", 21.0), ("deferred", 29.0), ("ssao", 28.0)];
 
 /// Frame 3 of `app` (with `app_args`) under the layer with `--fbo-scale scale`: the quilt's
 /// path and stderr (the layer's log at `info`, and Mesa's error lines).
@@ -40,6 +41,10 @@ fn quilt_at(dir: &Path, app_name: &str, scale: &str, app_args: &[&str]) -> (Path
     (dump.join(format!("f000003_qs{QUILT}a1.3333.png")), err)
 }
 
+fn tile_of(quilt: &Image, i: u32) -> Image {
+    tile(quilt, 5, 1, i)
+}
+
 /// Multi-pass scenes with `tile` layers: every view close to `window`'s, depth still moving
 /// views apart, no GL error that `window` does not have.
 #[test]
@@ -59,6 +64,12 @@ fn tile_layers_keep_multipass_views_close_to_window() {
         eprintln!("{name}: --fbo-scale tile against window, per view: {psnr:.2?} dB (mean {mean:.2})");
         for (i, p) in psnr.iter().enumerate() {
             assert!(*p >= min, "{name}: view {i}: {p:.2} dB against window, at least {min} expected ({psnr:.2?})");
+        }
+        // An outer view of `tile` is closer to `window`'s same view than to its neighbour.
+        for (view, next) in [(0, 1), (4, 3)] {
+            let other = tile_psnr(&tile_of(&w, next), &tile_of(&t, view), 1, 1)[0];
+            eprintln!("{name}: tile view {view} against window view {next}: {other:.2} dB");
+            assert!(psnr[view as usize] > other, "{name}: view {view} looks like view {next} ({other:.2} dB)");
         }
         assert_depth_parallax(&t, &tile, 5, 40, &format!("{name} --fbo-scale tile"));
         assert_no_added_gl_errors(&window_log, &tile_log, &format!("{name} --fbo-scale tile"));
