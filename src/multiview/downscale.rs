@@ -97,7 +97,7 @@ pub fn before_pixel_addressing(
     let mut dropped = draw_fbo != 0 && unscale_framebuffer(gl, mv, draw_fbo, why);
     for &(_, tex, _) in subs.iter() {
         let app = AppImage::texture(tex);
-        if !mv.images.get(&app).is_some_and(|i| !i.scale.is_one()) {
+        if mv.images.get(&app).is_none_or(|i| i.scale.is_one()) {
             continue;
         }
         let holders: Vec<u32> = mv

@@ -340,7 +340,10 @@ pub fn blit(gl: &Gl, app: &AppState, mv: &mut Multiview, src: [i32; 4], dst: [i3
     let src_layers = super::layers::current_views(gl, mv, read);
     let mut dst_layers = blit_destination(gl, mv, draw, src_layers.is_some());
     if src_layers.is_some() && dst_layers.is_some() && super::downscale::resolve_needs_full_size(mv, read, draw) {
-        let why = ("a multisampled framebuffer of the program's size is blitted into it", "");
+        let why = (
+            "a multisampled framebuffer of the program's size is blitted into it",
+            "",
+        );
         super::downscale::unscale_framebuffer(gl, mv, draw, why);
         dst_layers = blit_destination(gl, mv, draw, true);
     }

@@ -265,7 +265,20 @@ impl LayeredImage {
             };
             for layer in layers {
                 gl.NamedFramebufferTextureLayer(layer_fbo, point, self.array, 0, layer as i32);
-                gl.BlitNamedFramebuffer(src, dst, 0, 0, from.0, from.1, 0, 0, to.0, to.1, self.buffers, self.filter);
+                gl.BlitNamedFramebuffer(
+                    src,
+                    dst,
+                    0,
+                    0,
+                    from.0,
+                    from.1,
+                    0,
+                    0,
+                    to.0,
+                    to.1,
+                    self.buffers,
+                    self.filter,
+                );
             }
             gl.DeleteFramebuffers(2, fbos.as_ptr());
         }

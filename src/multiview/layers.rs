@@ -232,7 +232,11 @@ fn obtain<'a>(
     point: GLenum,
     n: u32,
 ) -> Result<&'a LayeredImage, String> {
-    if mv.images.get(&app).is_some_and(|i| i.storage != storage || i.scale != scale) {
+    if mv
+        .images
+        .get(&app)
+        .is_some_and(|i| i.storage != storage || i.scale != scale)
+    {
         lifetime::drop_image(gl, mv, app);
     }
     if !mv.images.contains_key(&app) {

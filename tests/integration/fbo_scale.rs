@@ -19,7 +19,12 @@ const RIG: [&str; 6] = ["--depthiness", "0.12", "--convergence", "9", "--focus",
 /// and kernels in texels (framebuffers' sharpen, bloom's blur) four times wider on screen.
 /// A layer mapped at the wrong scale, or a view drawn from another view's layer, is checked
 /// against the outer views' own neighbours below.
-const MIN_PSNR: [(&str, f64); 4] = [("framebuffers", 20.0), ("bloom", 21.0), ("deferred", 29.0), ("ssao", 28.0)];
+const MIN_PSNR: [(&str, f64); 4] = [
+    ("framebuffers", 20.0),
+    ("bloom", 21.0),
+    ("deferred", 29.0),
+    ("ssao", 28.0),
+];
 
 /// Frame 3 of `app` (with `app_args`) under the layer with `--fbo-scale scale`: the quilt's
 /// path and stderr (the layer's log at `info`, and Mesa's error lines).
@@ -63,13 +68,19 @@ fn tile_layers_keep_multipass_views_close_to_window() {
         let mean = psnr.iter().sum::<f64>() / psnr.len() as f64;
         eprintln!("{name}: --fbo-scale tile against window, per view: {psnr:.2?} dB (mean {mean:.2})");
         for (i, p) in psnr.iter().enumerate() {
-            assert!(*p >= min, "{name}: view {i}: {p:.2} dB against window, at least {min} expected ({psnr:.2?})");
+            assert!(
+                *p >= min,
+                "{name}: view {i}: {p:.2} dB against window, at least {min} expected ({psnr:.2?})"
+            );
         }
         // An outer view of `tile` is closer to `window`'s same view than to its neighbour.
         for (view, next) in [(0, 1), (4, 3)] {
             let other = tile_psnr(&tile_of(&w, next), &tile_of(&t, view), 1, 1)[0];
             eprintln!("{name}: tile view {view} against window view {next}: {other:.2} dB");
-            assert!(psnr[view as usize] > other, "{name}: view {view} looks like view {next} ({other:.2} dB)");
+            assert!(
+                psnr[view as usize] > other,
+                "{name}: view {view} looks like view {next} ({other:.2} dB)"
+            );
         }
         assert_depth_parallax(&t, &tile, 5, 40, &format!("{name} --fbo-scale tile"));
         assert_no_added_gl_errors(&window_log, &tile_log, &format!("{name} --fbo-scale tile"));
@@ -113,7 +124,16 @@ fn measure_tile_against_window_5x9() {
     for name in ["framebuffers", "bloom", "deferred", "ssao"] {
         let quilt = |scale: &str| {
             let dump = dir.join(format!("{name}-{scale}"));
-            let mut options = vec!["--output", "quilt", "--quilt", "5x9", "--tile", "256x256", "--fbo-scale", scale];
+            let mut options = vec![
+                "--output",
+                "quilt",
+                "--quilt",
+                "5x9",
+                "--tile",
+                "256x256",
+                "--fbo-scale",
+                scale,
+            ];
             options.extend(dump_and_exit_at(&dump, "3"));
             let args = ["--backend", "osmesa", "--size", "800x600", "--frames", "3"];
             let out = under_layer(&options, app(name), &args, &[]);
@@ -127,6 +147,8 @@ fn measure_tile_against_window_5x9() {
             .enumerate()
             .map(|(i, p)| (*p, i))
             .fold((f64::INFINITY, 0), |a, b| if b.0 < a.0 { b } else { a });
-        eprintln!("{name}: tile vs window, 5x9 of 256x256 at 800x600: PSNR mean {mean:.2} dB, worst {worst:.2} dB (view {view})");
+        eprintln!(
+            "{name}: tile vs window, 5x9 of 256x256 at 800x600: PSNR mean {mean:.2} dB, worst {worst:.2} dB (view {view})"
+        );
     }
 }
