@@ -69,6 +69,17 @@ pub enum FboViews {
     None,
 }
 
+/// The resolution of the layers of shadowed framebuffers (`--fbo-scale`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum FboScale {
+    /// The app's own size: every view's off-screen passes as the program renders them.
+    Window,
+    /// Scaled so that the window maps to one tile (each axis at most 1).
+    Tile,
+    /// This fraction, in (0, 1], of the app's size.
+    Factor(f64),
+}
+
 /// How views are made (DESIGN §5).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Mode {
@@ -122,6 +133,7 @@ pub struct ViewSettings {
     pub device: Option<device::Device>,
     pub weave_filter: WeaveFilter,
     pub fbo_views: FboViews,
+    pub fbo_scale: FboScale,
     pub depthiness: Option<f64>,
     /// Angle (degrees) between the outermost cameras as seen from the convergence plane.
     pub view_cone: Option<f64>,
@@ -169,6 +181,7 @@ impl Default for ViewSettings {
             device: None,
             weave_filter: WeaveFilter::BlendNext,
             fbo_views: FboViews::Auto,
+            fbo_scale: FboScale::Window,
             depthiness: None,
             view_cone: None,
             convergence: Convergence::Auto,
@@ -255,6 +268,7 @@ impl Settings {
                 "weave-filter" => s.view.weave_filter = parse::weave_filter(&value).unwrap_or(s.view.weave_filter),
                 "depthiness" => s.view.depthiness = parse::finite(&value).ok(),
                 "fbo-views" => s.view.fbo_views = parse::fbo_views(&value).unwrap_or(FboViews::Auto),
+                "fbo-scale" => s.view.fbo_scale = parse::fbo_scale(&value).unwrap_or(FboScale::Window),
                 "view-cone" => s.view.view_cone = parse::view_cone(&value).ok(),
                 "convergence" => s.view.convergence = parse::convergence(&value).unwrap_or(Convergence::Auto),
                 "focus" => s.view.focus = parse::finite(&value).unwrap_or(0.0),

@@ -63,6 +63,8 @@ pub static OPTIONS: &[OptDef] = &[
     opt("focus", "F", "post-hoc zero-parallax shift (NDC) between centre and outermost view", |v| super::parse::finite(v).map(|_| ())),
     opt("fbo-views", "auto|all|none", "which of the program's own framebuffers get a layer per view: auto (view-dependent passes; default), all, none",
         |v| super::parse::fbo_views(v).map(|_| ())),
+    opt("fbo-scale", "window|tile|F", "resolution of those layers: window (the program's own, default), tile (the window maps to the tile, never upscaled) or F in (0, 1] times the program's",
+        |v| super::parse::fbo_scale(v).map(|_| ())),
     opt("dump", "DIR", "write presented frames (and quilts) as PNG into DIR", super::parse::nonempty),
     opt("dump-frames", "LIST|every:N", "frames to dump, e.g. 1,10,30 or every:10 (default: every frame)",
         |v| super::parse::frames(v).map(|_| ())),

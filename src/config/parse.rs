@@ -1,6 +1,6 @@
 //! Value syntax shared by the launcher (flags) and the layer (environment).
 
-use super::{Boundary, Convergence, FboViews, FrameSet, Mode, Output, SynthWarp};
+use super::{Boundary, Convergence, FboScale, FboViews, FrameSet, Mode, Output, SynthWarp};
 
 pub fn grid(v: &str) -> Result<(u32, u32), String> {
     let (a, b) = v
@@ -106,6 +106,19 @@ pub fn fbo_views(v: &str) -> Result<FboViews, String> {
     }
 }
 
+/// `--fbo-scale`: `window`, `tile` or a factor in (0, 1] (layers are never larger than the
+/// app's framebuffers: upscaling would cost more than the program's own passes).
+pub fn fbo_scale(v: &str) -> Result<FboScale, String> {
+    match v.trim() {
+        "window" => Ok(FboScale::Window),
+        "tile" => Ok(FboScale::Tile),
+        f => match f.parse::<f64>() {
+            Ok(x) if x > 0.0 && x <= 1.0 => Ok(FboScale::Factor(x)),
+            _ => Err(format!("`{v}`: expected window|tile|F with 0 < F <= 1")),
+        },
+    }
+}
+
 pub fn view_cone(v: &str) -> Result<f64, String> {
     finite(v).and_then(|d| {
         if d > 0.0 && d < 180.0 {
@@ -208,6 +221,13 @@ mod tests {
         assert!(mode("hybrid:x").unwrap_err().contains("expected"));
         assert!(mode("fast").is_err());
         assert!(synth_threshold("0").is_err());
+        assert_eq!(fbo_scale("tile"), Ok(FboScale::Tile));
+        assert_eq!(fbo_scale("window"), Ok(FboScale::Window));
+        assert_eq!(fbo_scale("0.5"), Ok(FboScale::Factor(0.5)));
+        assert_eq!(fbo_scale("1"), Ok(FboScale::Factor(1.0)));
+        for bad in ["0", "2", "foo", "-0.5", "NaN", "inf", ""] {
+            assert!(fbo_scale(bad).is_err(), "{bad}");
+        }
         assert_eq!(synth_threshold("2"), Ok(2.0));
         assert_eq!(synth_warp("grid"), Ok(super::SynthWarp::Grid));
         assert!(synth_warp("quads").is_err());

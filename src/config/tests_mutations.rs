@@ -41,10 +41,15 @@ proptest! {
 
     #[test]
     fn corrupted_values_give_errors_not_panics(s in "\\PC{0,24}") {
-        for parse in [super::parse::grid(&s).err(), super::parse::frames(&s).err(), super::parse::mode(&s).err(), super::parse::weave_filter(&s).err()] {
-            if let Some(e) = parse {
-                prop_assert!(!e.contains('\n'));
-            }
+        let errors = [
+            super::parse::grid(&s).err(),
+            super::parse::frames(&s).err(),
+            super::parse::mode(&s).err(),
+            super::parse::weave_filter(&s).err(),
+            super::parse::fbo_scale(&s).err(),
+        ];
+        for e in errors.into_iter().flatten() {
+            prop_assert!(!e.contains('\n'));
         }
     }
 }

@@ -112,7 +112,7 @@ fn source(mv: &Multiview, target: u32) -> Option<(u32, [i32; 4], Source)> {
             let centre = mv.camera.rig.centre();
             intersect(quilt.layout.map_rect(centre, viewport), quilt.layout.tile_rect(centre))
         }
-        (Source::Shadow, _, Some(s)) => intersect(viewport, [0, 0, s.size.0, s.size.1]),
+        (Source::Shadow, _, Some(s)) => intersect(s.scale.rect_out(viewport), [0, 0, s.size.0, s.size.1]),
         _ => intersect(viewport, [0, 0, i32::MAX, i32::MAX]),
     };
     (rect[2] > 0 && rect[3] > 0).then_some((fbo, rect, from))

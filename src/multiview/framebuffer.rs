@@ -3,6 +3,7 @@
 
 use super::Multiview;
 use super::layout::{QuiltLayout, intersect};
+use super::scale::LayerScale;
 use super::target::QuiltTarget;
 use crate::gl::*;
 use crate::state::AppState;
@@ -238,18 +239,31 @@ pub fn on_real_target<R>(
     Some(r)
 }
 
-/// Clears every layer of a shadowed framebuffer of the app.
-fn clear_layers(gl: &Gl, app: &AppState, mv: &mut Multiview, f: &impl Fn()) -> bool {
+/// Clears every layer of a shadowed framebuffer of the app (the app's scissor box mapped
+/// into scaled layers).
+fn clear_layers(gl: &Gl, app: &mut AppState, mv: &mut Multiview, f: &impl Fn()) -> bool {
     let Some(views) = super::layers::current_views(gl, mv, app.draw_fbo) else {
         return false;
     };
+    let scale = mv.shadows.get(&app.draw_fbo).map_or(LayerScale::ONE, |s| s.scale);
+    let scissor = (!scale.is_one() && app.enabled(gl, SCISSOR_TEST)).then(|| scale.rect_out(app.scissor));
+    if let Some(r) = scissor {
+        // SAFETY: a scissor box; the app's is restored below.
+        unsafe { gl.Scissor(r[0], r[1], r[2], r[3]) };
+    }
     for &view in views.iter() {
         // SAFETY: our view framebuffer; the app's binding is restored below.
         unsafe { gl.BindFramebuffer(DRAW_FRAMEBUFFER, view) };
         f();
     }
-    // SAFETY: the app's own framebuffer back.
-    unsafe { gl.BindFramebuffer(DRAW_FRAMEBUFFER, app.draw_fbo) };
+    let s = app.scissor;
+    // SAFETY: the app's own framebuffer and scissor box back.
+    unsafe {
+        gl.BindFramebuffer(DRAW_FRAMEBUFFER, app.draw_fbo);
+        if scissor.is_some() {
+            gl.Scissor(s[0], s[1], s[2], s[3]);
+        }
+    }
     true
 }
 
@@ -324,11 +338,20 @@ pub fn blit(gl: &Gl, app: &AppState, mv: &mut Multiview, src: [i32; 4], dst: [i3
     let back = |r: [i32; 4]| [r[0], r[1], r[0] + r[2], r[1] + r[3]];
     let (read, draw) = (app.read_fbo, app.draw_fbo);
     let src_layers = super::layers::current_views(gl, mv, read);
-    let dst_layers = match (draw, &src_layers) {
-        (0, _) => None,
-        (_, Some(_)) => super::layers::ensure_shadow(gl, mv, draw, "a view-dependent framebuffer is blitted into it"),
-        (_, None) => super::layers::current_views(gl, mv, draw),
+    let mut dst_layers = blit_destination(gl, mv, draw, src_layers.is_some());
+    if src_layers.is_some() && dst_layers.is_some() && super::downscale::resolve_needs_full_size(mv, read, draw) {
+        let why = (
+            "a multisampled framebuffer of the program's size is blitted into it",
+            "",
+        );
+        super::downscale::unscale_framebuffer(gl, mv, draw, why);
+        dst_layers = blit_destination(gl, mv, draw, true);
+    }
+    let scale_of = |fbo: u32, layers: &Option<_>| match layers {
+        Some(_) => mv.shadows.get(&fbo).map_or(LayerScale::ONE, |s| s.scale),
+        None => LayerScale::ONE,
     };
+    let (src_scale, dst_scale) = (scale_of(read, &src_layers), scale_of(draw, &dst_layers));
     resolved_blit_source(gl, app, mv);
     let per_view = draw == 0 || src_layers.is_some() || dst_layers.is_some();
     if draw == 0 && mv.plan.before_default_draw(src_layers.is_some() || read == 0) {
@@ -355,12 +378,12 @@ pub fn blit(gl: &Gl, app: &AppState, mv: &mut Multiview, src: [i32; 4], dst: [i3
         let s = if read == 0 {
             back(layout.map_rect(i, corners(src)))
         } else {
-            src
+            src_scale.corners(src)
         };
         let d = if draw == 0 {
             back(layout.map_rect(i, corners(dst)))
         } else {
-            dst
+            dst_scale.corners(dst)
         };
         // SAFETY: our view framebuffers in place of the app's; rebound below.
         unsafe {
@@ -376,13 +399,35 @@ pub fn blit(gl: &Gl, app: &AppState, mv: &mut Multiview, src: [i32; 4], dst: [i3
     rebind(gl, app, mv);
 }
 
+/// The layers a blit into the app's `fbo` writes: a view-dependent source makes it
+/// view-dependent too.
+fn blit_destination(gl: &Gl, mv: &mut Multiview, fbo: u32, layered_source: bool) -> Option<std::sync::Arc<[u32]>> {
+    match (fbo, layered_source) {
+        (0, _) => None,
+        (_, true) => super::layers::ensure_shadow(gl, mv, fbo, "a view-dependent framebuffer is blitted into it"),
+        (_, false) => super::layers::current_views(gl, mv, fbo),
+    }
+}
+
 /// Reads from a shadowed framebuffer of the app come from the centre view's layer: binds it
-/// for reading (the caller rebinds with `rebind`).
+/// for reading (the caller rebinds with `rebind`). A scaled layer cannot answer in the app's
+/// pixels: it is scaled back up into the app's own objects (which no pass of ours reads while
+/// their layers live), and the read is the app's own, at the app's size: the centre view at
+/// the layers' resolution.
 pub fn read_centre_layer(gl: &Gl, app: &AppState, mv: &mut Multiview) -> bool {
     let Some(views) = super::layers::current_views(gl, mv, app.read_fbo) else {
         return false;
     };
-    let view = views[(mv.camera.rig.centre() as usize).min(views.len() - 1)];
+    let centre = mv.camera.rig.centre();
+    if let Some(s) = mv.shadows.get(&app.read_fbo).filter(|s| !s.scale.is_one()) {
+        for a in &s.attached {
+            if let Some(image) = mv.images.get(&a.app) {
+                image.copy_back(gl, mv.info, centre);
+            }
+        }
+        return true;
+    }
+    let view = views[(centre as usize).min(views.len() - 1)];
     // SAFETY: our view framebuffer for reading.
     unsafe { gl.BindFramebuffer(READ_FRAMEBUFFER, view) };
     true

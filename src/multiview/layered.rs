@@ -12,7 +12,11 @@
 //! Sampling goes through one `GL_TEXTURE_2D` view per layer, which has sampling parameters
 //! of its own: they are copied from the app's texture when the views are made, and the
 //! app's later changes are mirrored (`mirror`).
+//!
+//! Layers may be smaller than the app's object (`scale`, `--fbo-scale`): the copies to and
+//! from the app's object then scale too, linearly for colour.
 
+use super::scale::LayerScale;
 use crate::gl::GlInfo;
 use crate::gl::format;
 use crate::gl::types::GLbitfield;
@@ -51,6 +55,11 @@ pub struct LayeredImage {
     /// Which buffers it holds (colour, or depth and/or stencil), for the copies.
     pub buffers: GLbitfield,
     pub array: u32,
+    /// Each layer's size, and the factors from the app's object to it.
+    pub size: (i32, i32),
+    pub scale: LayerScale,
+    /// How scaled colour copies filter (integer formats cannot be filtered).
+    filter: GLenum,
     /// Per-layer `GL_TEXTURE_2D` views for sampling (single-sample textures only); shared
     /// with the draws that substitute them, without copying.
     pub layer_views: Arc<[u32]>,
@@ -103,7 +112,7 @@ pub fn storage(gl: &Gl, app: AppImage, target: GLenum) -> Result<Storage, String
 
 /// Mip levels the layers need: the app's, or the full chain when a mipmapping filter on a
 /// single level says glGenerateMipmap comes later (immutable storage cannot grow).
-fn levels(gl: &Gl, app: AppImage, s: Storage) -> i32 {
+fn levels(gl: &Gl, app: AppImage, s: Storage, (w, h): (i32, i32)) -> i32 {
     if app.renderbuffer || s.samples > 0 {
         return 1;
     }
@@ -120,10 +129,12 @@ fn levels(gl: &Gl, app: AppImage, s: Storage) -> i32 {
         }
         gl.GetTextureParameteriv(app.name, TEXTURE_MIN_FILTER, &mut filter);
     }
+    // A scaled layer has a shorter chain than the app's object.
+    let chain = 32 - (w.max(h).max(1) as u32).leading_zeros() as i32;
     if matches!(filter as GLenum, NEAREST | LINEAR) {
-        levels
+        levels.min(chain)
     } else {
-        levels.max(32 - (s.width.max(s.height).max(1) as u32).leading_zeros() as i32)
+        chain
     }
 }
 
@@ -172,18 +183,26 @@ pub fn buffers_at(point: GLenum) -> GLbitfield {
 impl LayeredImage {
     /// A new image of `n` layers for `app`, attached at `point`, each layer a copy of the
     /// app's content.
-    pub fn create(gl: &Gl, info: GlInfo, app: AppImage, s: Storage, point: GLenum, n: u32) -> Result<Self, String> {
+    pub fn create(
+        gl: &Gl,
+        info: GlInfo,
+        app: AppImage,
+        (s, scale): (Storage, LayerScale),
+        point: GLenum,
+        n: u32,
+    ) -> Result<Self, String> {
         let format = s.format;
-        let levels = levels(gl, app, s);
+        let (w, h) = scale.size((s.width, s.height));
+        let levels = levels(gl, app, s, (w, h));
         let mut array = 0;
         // SAFETY: creating our own immutable array.
         unsafe {
             if s.samples > 0 {
                 gl.CreateTextures(TEXTURE_2D_MULTISAMPLE_ARRAY, 1, &mut array);
-                gl.TextureStorage3DMultisample(array, s.samples, format, s.width, s.height, n as i32, TRUE);
+                gl.TextureStorage3DMultisample(array, s.samples, format, w, h, n as i32, TRUE);
             } else {
                 gl.CreateTextures(TEXTURE_2D_ARRAY, 1, &mut array);
-                gl.TextureStorage3D(array, levels, format, s.width, s.height, n as i32);
+                gl.TextureStorage3D(array, levels, format, w, h, n as i32);
             }
         }
         if let Err(e) = same_depth_stencil(gl, app, array, buffers_at(point)) {
@@ -196,11 +215,15 @@ impl LayeredImage {
         } else {
             Arc::from(super::sampling::layer_views(gl, app.name, array, format, levels, n))
         };
+        let buffers = buffers_at(point);
         let image = LayeredImage {
             app,
             storage: s,
-            buffers: buffers_at(point),
+            buffers,
             array,
+            size: (w, h),
+            scale,
+            filter: copy_filter(gl, array, buffers, scale),
             layer_views,
         };
         image.copy(gl, info, Direction::FromApp, 0..n);
@@ -216,11 +239,13 @@ impl LayeredImage {
     /// Blits between the app's object and `layers` through two framebuffers of our own, so
     /// that neither the app's framebuffers (their completeness, buffer selections) nor its
     /// bindings are involved. Blits obey the scissor test and sRGB encoding: both are off
-    /// meanwhile.
+    /// meanwhile. A scaled image's copies scale (a multisampled one cannot be blitted at
+    /// another size: it is not scaled, see `layers`).
     fn copy(&self, gl: &Gl, info: GlInfo, direction: Direction, layers: std::ops::Range<u32>) {
         let _guard = crate::gl::guard::StateGuard::new(gl, info).caps(&[SCISSOR_TEST, FRAMEBUFFER_SRGB]);
         let point = point(self.buffers);
         let (w, h) = (self.storage.width, self.storage.height);
+        let (lw, lh) = self.size;
         let mut fbos = [0u32; 2];
         // SAFETY: our own framebuffers, named (no binding changes), deleted at the end; the
         // app's object is only attached to them.
@@ -234,13 +259,26 @@ impl LayeredImage {
             } else {
                 gl.NamedFramebufferTexture(app_fbo, point, self.app.name, 0);
             }
-            let (src, dst) = match direction {
-                Direction::FromApp => (app_fbo, layer_fbo),
-                Direction::ToApp => (layer_fbo, app_fbo),
+            let (src, dst, from, to) = match direction {
+                Direction::FromApp => (app_fbo, layer_fbo, (w, h), (lw, lh)),
+                Direction::ToApp => (layer_fbo, app_fbo, (lw, lh), (w, h)),
             };
             for layer in layers {
                 gl.NamedFramebufferTextureLayer(layer_fbo, point, self.array, 0, layer as i32);
-                gl.BlitNamedFramebuffer(src, dst, 0, 0, w, h, 0, 0, w, h, self.buffers, NEAREST);
+                gl.BlitNamedFramebuffer(
+                    src,
+                    dst,
+                    0,
+                    0,
+                    from.0,
+                    from.1,
+                    0,
+                    0,
+                    to.0,
+                    to.1,
+                    self.buffers,
+                    self.filter,
+                );
             }
             gl.DeleteFramebuffers(2, fbos.as_ptr());
         }
@@ -263,6 +301,18 @@ impl LayeredImage {
             gl.DeleteTextures(self.layer_views.len() as i32, self.layer_views.as_ptr());
             gl.DeleteTextures(1, &self.array);
         }
+    }
+}
+
+/// The filter of the copies between an app object and its layers: linear for scaled colour
+/// that is not integer (which only NEAREST may blit), else NEAREST (depth and stencil must).
+fn copy_filter(gl: &Gl, array: u32, buffers: GLbitfield, scale: LayerScale) -> GLenum {
+    if scale.is_one() || buffers != COLOR_BUFFER_BIT {
+        return NEAREST;
+    }
+    match format::texture_components(gl, array).color_type {
+        INT | UNSIGNED_INT => NEAREST,
+        _ => LINEAR,
     }
 }
 

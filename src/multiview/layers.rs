@@ -5,6 +5,7 @@
 use super::Multiview;
 use super::layered::{AppImage, LayeredImage, Storage};
 use super::lifetime;
+use super::scale::LayerScale;
 use super::shadow::{self, Attached, ShadowFbo};
 use crate::gl::*;
 use crate::state::AppState;
@@ -53,7 +54,7 @@ pub struct FboFacts {
     pub objects: Vec<AppImage>,
 }
 
-fn facts<'a>(gl: &Gl, all: &'a mut HashMap<u32, FboFacts>, fbo: u32) -> &'a FboFacts {
+pub(super) fn facts<'a>(gl: &Gl, all: &'a mut HashMap<u32, FboFacts>, fbo: u32) -> &'a FboFacts {
     all.entry(fbo).or_insert_with(|| {
         let found = shadow::attachments(gl, fbo);
         FboFacts {
@@ -157,8 +158,9 @@ pub fn ensure_shadow(gl: &Gl, mv: &mut Multiview, fbo: u32, why: &str) -> Option
         Ok(views) => {
             let (n, (w, h)) = (views.len(), mv.shadows[&fbo].size);
             if mv.announced.insert((fbo, true)) {
+                let scaled = super::downscale::describe(mv.shadows[&fbo].scale);
                 crate::log::info(format_args!(
-                    "framebuffer {fbo} shadowed with {n} layers ({w}x{h}): {why}"
+                    "framebuffer {fbo} shadowed with {n} layers ({w}x{h}{scaled}): {why}"
                 ));
             } else {
                 crate::log::debug(format_args!("framebuffer {fbo}: shadow re-attached ({w}x{h}): {why}"));
@@ -201,35 +203,44 @@ fn build(gl: &Gl, mv: &mut Multiview, fbo: u32) -> Result<Arc<[u32]>, String> {
         };
         checked.push((point, app, super::layered::storage(gl, app, target)?));
     }
+    let scale = super::downscale::for_framebuffer(mv, &checked);
     let (mut wanted, mut size) = (Vec::new(), (i32::MAX, i32::MAX));
     for (point, app, storage) in checked {
-        let array = obtain(gl, mv, app, storage, point, n)?.array;
-        size = (size.0.min(storage.width), size.1.min(storage.height));
-        wanted.push(Attached { point, app, array });
+        let image = obtain(gl, mv, app, (storage, scale), point, n)?;
+        size = (size.0.min(image.size.0), size.1.min(image.size.1));
+        wanted.push(Attached {
+            point,
+            app,
+            array: image.array,
+        });
     }
     let info = mv.info;
     let shadow = mv.shadows.entry(fbo).or_insert_with(|| ShadowFbo::new(gl, n));
-    shadow.attach(gl, info, fbo, wanted, size)?;
+    shadow.attach(gl, info, fbo, wanted, (size, scale))?;
     Ok(shadow.views.clone())
 }
 
-/// The image of `app`: the one it has if its storage is still `storage`, else a new one made
-/// from the app's content (`point`: where it is attached). The storage may have changed
+/// The image of `app`: the one it has if its storage is still `storage` and its scale
+/// `scale`, else a new one made from the app's content (`point`: where it is attached). The storage may have changed
 /// behind the hooks (in another context of the share group, or through a call the layer does
 /// not wrap): the image follows what GL says.
 fn obtain<'a>(
     gl: &Gl,
     mv: &'a mut Multiview,
     app: AppImage,
-    storage: Storage,
+    (storage, scale): (Storage, LayerScale),
     point: GLenum,
     n: u32,
 ) -> Result<&'a LayeredImage, String> {
-    if mv.images.get(&app).is_some_and(|i| i.storage != storage) {
+    if mv
+        .images
+        .get(&app)
+        .is_some_and(|i| i.storage != storage || i.scale != scale)
+    {
         lifetime::drop_image(gl, mv, app);
     }
     if !mv.images.contains_key(&app) {
-        let image = LayeredImage::create(gl, mv.info, app, storage, point, n)?;
+        let image = LayeredImage::create(gl, mv.info, app, (storage, scale), point, n)?;
         mv.images.insert(app, image);
     }
     Ok(&mv.images[&app])

@@ -53,6 +53,7 @@ pub fn storage_changed(gl: &Gl, mv: &mut Multiview, app: AppImage, target: GLenu
 pub fn objects_deleted(gl: &Gl, mv: &mut Multiview, gone: impl Iterator<Item = AppImage>) {
     for app in gone {
         drop_image(gl, mv, app);
+        mv.full_size.remove(&app);
         mv.unshadowable.retain(|_, had| had.iter().all(|(_, a, _)| *a != app));
     }
     mv.fbo_facts.clear();

@@ -70,7 +70,10 @@ pub fn link_program(gl: &Gl, group: &ShareGroup, program: u32, link: impl Fn()) 
     let original = known.clone().unwrap_or_else(|| source_of(gl, shader));
     let analysis = shader::analyse(&original, stage);
     let rewritten = known.is_some() || try_rewrite(gl, group, shader, &original, &analysis, program);
-    let fragment = fragment_shader(gl, &shaders).and_then(|fs| rewrite_fragcoord(gl, group, fs, program));
+    let fs = fragment_shader(gl, &shaders);
+    let fs_source = fs.map(|fs| app_source(gl, group, fs));
+    let fragment = fs.and_then(|fs| rewrite_fragcoord(gl, group, fs, program));
+    let pixel_addressing = fs_source.and_then(|src| shader::fragcoord::pixel_addressing(&src, fragment.is_some()));
     link();
     let linked = {
         let mut ok = 0;
@@ -97,8 +100,15 @@ pub fn link_program(gl: &Gl, group: &ShareGroup, program: u32, link: impl Fn()) 
         return;
     }
     if linked {
-        record(gl, group, program, &analysis, rewritten);
+        record(gl, group, program, &analysis, (rewritten, pixel_addressing));
     }
+}
+
+/// The app's own source of `shader` (before any edit of ours).
+fn app_source(gl: &Gl, group: &ShareGroup, shader: u32) -> String {
+    // Two statements: the group's lock must not be held through a GL call.
+    let known = group.lock().original_sources.get(&shader).cloned();
+    known.unwrap_or_else(|| source_of(gl, shader))
 }
 
 fn fragment_shader(gl: &Gl, shaders: &[u32]) -> Option<u32> {
@@ -171,7 +181,13 @@ fn uniform_location(gl: &Gl, program: u32, name: &str) -> i32 {
     unsafe { gl.GetUniformLocation(program, c.as_ptr()) }
 }
 
-fn record(gl: &Gl, group: &ShareGroup, program: u32, analysis: &shader::Analysis, rewritten: bool) {
+fn record(
+    gl: &Gl,
+    group: &ShareGroup,
+    program: u32,
+    analysis: &shader::Analysis,
+    (rewritten, pixel_addressing): (bool, Option<&'static str>),
+) {
     let view_loc = if rewritten {
         uniform_location(gl, program, shader::VIEW_UNIFORM)
     } else {
@@ -206,6 +222,7 @@ fn record(gl: &Gl, group: &ShareGroup, program: u32, analysis: &shader::Analysis
         builtin_projection: builtin,
         identity: analysis.position_kind == shader::PositionKind::Identity,
         fragcoord_loc,
+        pixel_addressing,
         ..Default::default()
     };
     if view_loc >= 0 || fragcoord_loc >= 0 {

@@ -18,6 +18,7 @@
 //! they need as arguments.
 
 pub mod convergence;
+pub mod downscale;
 pub mod framebuffer;
 pub mod immediate;
 pub mod layered;
@@ -30,6 +31,7 @@ pub mod plan;
 pub mod raster;
 pub mod replay;
 pub mod sampling;
+pub mod scale;
 pub mod scene;
 pub mod screen_space;
 pub mod shadow;
@@ -84,6 +86,8 @@ pub struct Multiview {
     pub unshadowable: HashMap<u32, Vec<shadow::Found>>,
     /// The per-view content of the app's textures and renderbuffers that shadows draw into.
     pub images: HashMap<layered::AppImage, layered::LayeredImage>,
+    /// Objects whose layers stay at the app's size whatever `--fbo-scale` says (`downscale`).
+    pub full_size: HashSet<layered::AppImage>,
     /// What each of the app's framebuffers has attached (see `layers::FboFacts`).
     pub fbo_facts: HashMap<u32, layers::FboFacts>,
     /// Framebuffers already logged as drawn once (not view-dependent), and as shadowed (true)
@@ -123,6 +127,7 @@ impl Multiview {
             shadows: Default::default(),
             unshadowable: Default::default(),
             images: Default::default(),
+            full_size: Default::default(),
             fbo_facts: Default::default(),
             drawn_once: Default::default(),
             announced: Default::default(),

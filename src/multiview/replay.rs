@@ -15,6 +15,7 @@
 use super::Multiview;
 use super::layers::{self, Substitutions};
 use super::layout::{QuiltLayout, intersect};
+use super::scale::LayerScale;
 use super::screen_space;
 use super::shift::{self, Shift};
 use crate::gl::*;
@@ -65,6 +66,7 @@ fn replay(
     f: &impl Fn(u32),
 ) {
     let shift = shift::of(gl, app, mv, group);
+    unscale_for_program(gl, app, mv, &mut scratch.subs);
     if app.draw_fbo == 0 && mv.plan.before_default_draw(shift.camera() || !scratch.subs.is_empty()) {
         // The views are complete up to here; what follows (a HUD) is drawn in every view.
         super::synthesis::warp(gl, mv);
@@ -100,6 +102,9 @@ fn replay(
         draw_tiles(gl, app, mv, layout, scissored, set_tile, f);
         set_fragcoord(gl, app.program, fragcoord, None);
     } else if let Some(views) = layers::target_views(gl, mv, app.draw_fbo, shift.camera(), subs) {
+        let scale = mv.shadows.get(&app.draw_fbo).map_or(LayerScale::ONE, |s| s.scale);
+        let fragcoord = current_info(app).map_or(-1, |p| p.fragcoord_loc);
+        let scaled = (!scale.is_one()).then(|| scale_pass(gl, app, scale, scissored, fragcoord));
         for (i, &fbo) in views.iter().enumerate() {
             // Off-screen passes run for the rendered views only; the others are warped.
             if !mv.plan.renders(i as u32) {
@@ -112,6 +117,9 @@ fn replay(
         }
         // SAFETY: the app's own framebuffer back.
         unsafe { gl.BindFramebuffer(DRAW_FRAMEBUFFER, app.draw_fbo) };
+        if scaled.is_some() {
+            unscale_pass(gl, app, scissored, fragcoord);
+        }
     } else {
         // An unshadowed target sampling layered textures sees the centre view's layer.
         layers::bind_layers(gl, app, subs, Some(mv.camera.rig.centre() as usize));
@@ -129,6 +137,51 @@ fn replay(
         // The program's view uniform now holds the last view's shift, not the centre's.
         info.centre_set.store(false, Ordering::Relaxed);
     }
+}
+
+/// A program that addresses texels in pixels gets its target and the textures it samples at
+/// the app's size (`downscale`); the substitutions are found again when layers went.
+fn unscale_for_program(gl: &Gl, app: &AppState, mv: &mut Multiview, subs: &mut Substitutions) {
+    let Some(why) = current_info(app).and_then(|p| p.pixel_addressing) else {
+        return;
+    };
+    if super::downscale::context_scale(mv).is_one() {
+        return;
+    }
+    if super::downscale::before_pixel_addressing(gl, mv, app.draw_fbo, subs, why) {
+        layers::substitutions(app, mv, subs);
+    }
+}
+
+/// Viewport, scissor and `gl_FragCoord` mapped from the app's pixels into layers of `scale`
+/// for one draw (`unscale_pass` puts the app's back). The viewport keeps its fractions
+/// (`glViewportIndexedf`, GL 4.1, which shadows need anyway).
+fn scale_pass(gl: &Gl, app: &AppState, scale: LayerScale, scissored: bool, fragcoord: i32) {
+    let v = scale.rect_f(app.viewport);
+    let s = scale.rect_out(app.scissor);
+    let f = scale.fragcoord();
+    // SAFETY: viewport, scissor box and our own uniform; restored by `unscale_pass`.
+    unsafe {
+        gl.ViewportIndexedf(0, v[0], v[1], v[2], v[3]);
+        if scissored {
+            gl.Scissor(s[0], s[1], s[2], s[3]);
+        }
+        if fragcoord >= 0 {
+            gl.ProgramUniform4f(app.program, fragcoord, f[0], f[1], f[2], f[3]);
+        }
+    }
+}
+
+fn unscale_pass(gl: &Gl, app: &AppState, scissored: bool, fragcoord: i32) {
+    let (v, s) = (app.viewport, app.scissor);
+    // SAFETY: the app's viewport and scissor back, our uniform to window coordinates.
+    unsafe {
+        gl.Viewport(v[0], v[1], v[2], v[3]);
+        if scissored {
+            gl.Scissor(s[0], s[1], s[2], s[3]);
+        }
+    }
+    set_fragcoord(gl, app.program, fragcoord, None);
 }
 
 /// The link-time facts of the app's current program, as the last draw refreshed them.

@@ -18,6 +18,7 @@
 //! visible to the app. Older contexts keep the centre view in off-screen passes.
 
 use super::layered::AppImage;
+use super::scale::LayerScale;
 use crate::gl::GlInfo;
 use crate::gl::*;
 use std::sync::Arc;
@@ -34,7 +35,10 @@ pub struct ShadowFbo {
     /// One framebuffer per view (layer i of every attached image), shared with the replays.
     pub views: Arc<[u32]>,
     pub attached: Vec<Attached>,
+    /// The layers' size (the smallest attached), and the factors from the app's pixels to
+    /// theirs (`scale`), the same for every attached image.
     pub size: (i32, i32),
+    pub scale: LayerScale,
     /// The app changed an attachment since `attached` was set: rebuilt before the next use.
     pub stale: bool,
 }
@@ -143,6 +147,7 @@ impl ShadowFbo {
             views: Arc::from(views),
             attached: Vec::new(),
             size: (0, 0),
+            scale: LayerScale::ONE,
             stale: true,
         }
     }
@@ -155,7 +160,7 @@ impl ShadowFbo {
         info: GlInfo,
         fbo: u32,
         wanted: Vec<Attached>,
-        size: (i32, i32),
+        (size, scale): ((i32, i32), LayerScale),
     ) -> Result<(), String> {
         let gone: Vec<GLenum> = self
             .attached
@@ -178,6 +183,7 @@ impl ShadowFbo {
         }
         self.attached = wanted;
         self.size = size;
+        self.scale = scale;
         self.stale = false;
         // SAFETY: a status query on our own framebuffer.
         let status = unsafe { gl.CheckNamedFramebufferStatus(self.views[0], DRAW_FRAMEBUFFER) };

@@ -59,9 +59,46 @@ pub fn rewrite(source: &str) -> Result<String, String> {
     Ok(out)
 }
 
+/// Why a fragment shader would read the wrong texels from a layer smaller than the app's
+/// texture (`--fbo-scale`), if it would: integer texel addresses (`texelFetch`, image
+/// loads and stores) come from pixel arithmetic the layer cannot see, and `gl_FragCoord`
+/// (mapped back to the app's pixels) divided by `textureSize` (the layer's) is off by the
+/// scale. `fragcoord_mapped`: the shader carries the `gl_FragCoord` mapping (`rewrite`).
+pub fn pixel_addressing(source: &str, fragcoord_mapped: bool) -> Option<&'static str> {
+    let blanked = text::blank_comments(source);
+    let has = |name| text::has_ident(&blanked, name);
+    if has("texelFetch") || has("texelFetchOffset") {
+        Some("texelFetch")
+    } else if has("imageLoad") || has("imageStore") || has("imageSize") {
+        Some("images by pixel")
+    } else if !has("gl_FragCoord") {
+        None
+    } else if !fragcoord_mapped {
+        Some("gl_FragCoord, which could not be mapped")
+    } else if has("textureSize") {
+        Some("gl_FragCoord with textureSize")
+    } else {
+        None
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn pixel_addressing_is_found() {
+        let blur = "uniform sampler2D t; void main() { vec2 s = 1.0 / vec2(textureSize(t, 0)); }";
+        assert_eq!(pixel_addressing(blur, false), None);
+        let fetch = "uniform sampler2D t; void main() { gl_FragColor = texelFetch(t, ivec2(3), 0); }";
+        assert_eq!(pixel_addressing(fetch, false), Some("texelFetch"));
+        let uv = "uniform sampler2D t; void main() { gl_FragColor = texture(t, gl_FragCoord.xy / vec2(textureSize(t, 0))); }";
+        assert_eq!(pixel_addressing(uv, true), Some("gl_FragCoord with textureSize"));
+        let plain = "uniform vec2 r; void main() { gl_FragColor = vec4(gl_FragCoord.xy / r, 0, 1); }";
+        assert_eq!(pixel_addressing(plain, true), None);
+        assert!(pixel_addressing(plain, false).is_some());
+        assert_eq!(pixel_addressing("// texelFetch\nvoid main() {}", false), None);
+    }
 
     #[test]
     fn maps_fragcoord_after_version_and_extensions() {

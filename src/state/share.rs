@@ -34,6 +34,9 @@ pub struct ProgramInfo {
     pub builtin_projection: bool,
     /// Location of `holoinject_fragcoord` in the fragment shader, or -1.
     pub fragcoord_loc: i32,
+    /// Why its fragment shader addresses texels in pixels (`shader::fragcoord::
+    /// pixel_addressing`): its targets and sampled layers are not scaled (`--fbo-scale`).
+    pub pixel_addressing: Option<&'static str>,
     /// gl_Position is given directly (full-screen passes, NDC quads): not the main camera.
     pub identity: bool,
     /// The view uniform holds the centre view's values (so single draws need no update).

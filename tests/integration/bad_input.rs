@@ -18,7 +18,7 @@ fn launcher_rejects_bad_values_with_one_line() {
     std::fs::write(&partial, r#"{"slope": {"value": -7.2}, "center": {"value": 0.1}, "DPI": {"value": 324}, "screenW": {"value": 1536}, "screenH": {"value": 2048}}"#).unwrap();
     let bad_toml = dir.join("bad.toml");
     std::fs::write(&bad_toml, "quilt = \"5x9\"\ndepthiness = = 0.1\n").unwrap();
-    let cases: [(&[&str], &str); 17] = [
+    let cases: [(&[&str], &str); 20] = [
         (
             &["--preset", bad_toml.to_str().unwrap()],
             "bad.toml (line 2): not valid TOML",
@@ -39,6 +39,9 @@ fn launcher_rejects_bad_values_with_one_line() {
         (&["--log", "loud"], "--log loud"),
         (&["--weave-filter", "gaussian:99"], "--weave-filter gaussian:99"),
         (&["--output", "hologram"], "--output hologram"),
+        (&["--fbo-scale", "0"], "--fbo-scale 0"),
+        (&["--fbo-scale", "2"], "--fbo-scale 2"),
+        (&["--fbo-scale", "foo"], "--fbo-scale foo"),
     ];
     for (args, needle) in cases {
         launcher_refuses(args, needle);
@@ -85,6 +88,7 @@ fn layer_reports_bad_variables_and_keeps_running() {
         ),
         ("HOLOINJECT_EXIT_AFTER", "-1", "HOLOINJECT_EXIT_AFTER=-1"),
         ("HOLOINJECT_DEPTHINESS", "NaN", "HOLOINJECT_DEPTHINESS=NaN"),
+        ("HOLOINJECT_FBO_SCALE", "0", "HOLOINJECT_FBO_SCALE=0"),
         ("HOLOINJECT_QUILT", "16384x16384", "at most 1024"),
         ("HOLOINJECT_QUILT", "-3x3", "HOLOINJECT_QUILT=-3x3"),
         ("HOLOINJECT_CONVERGENCE", "1e999", "HOLOINJECT_CONVERGENCE=1e999"),
@@ -154,12 +158,12 @@ fn app_presets_apply_and_their_problems_are_named() {
     );
 
     let (out, quilts) = run_with(
-        "quilt = \"0x0\"\nviews = 9\ntile = \"100000x10\"\nconvergence = 12\n",
+        "quilt = \"0x0\"\nviews = 9\ntile = \"100000x10\"\nfbo-scale = 2\nconvergence = 12\n",
         &[],
     );
     let err = stderr(&out);
     assert!(out.status.success(), "{err}");
-    for field in ["quilt", "views", "tile"] {
+    for field in ["quilt", "views", "tile", "fbo-scale"] {
         let needle = format!("cubes.toml: field \"{field}\"");
         assert_eq!(err.matches(&needle).count(), 1, "`{needle}` not said once:\n{err}");
     }

@@ -12,6 +12,7 @@ mod util;
 
 mod bad_input;
 mod convergence;
+mod fbo_scale;
 mod forced_failures;
 mod launcher;
 mod layer_library;

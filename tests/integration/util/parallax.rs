@@ -186,7 +186,7 @@ fn parallax_failures(report: &ParallaxReport, mirror: &[f64]) -> Vec<String> {
     if !grows {
         failures.push("the spread does not grow with the distance from the centre".to_string());
     }
-    if let Some(e) = mirror.iter().find(|e| !(**e <= MIRROR_PX)) {
+    if let Some(e) = mirror.iter().find(|e| e.is_nan() || **e > MIRROR_PX) {
         failures.push(format!(
             "left and right views do not mirror (median |left + right| {e:.2} px)"
         ));

@@ -11,6 +11,8 @@
 //! `--late-swizzle` swaps red and blue of the scene texture through
 //! `GL_TEXTURE_SWIZZLE_R/B` from the second frame on: a sampling parameter
 //! changed after the first frame has used the texture.
+//! `--texel-fetch` reads the kernel's texels with `texelFetch` at `gl_FragCoord`
+//! (integer pixel addresses, which a scaled layer cannot answer: `--fbo-scale`).
 use holoapps::cli::{AppInfo, Options};
 use holoapps::gl::{self, Gl};
 use holoapps::math;
@@ -55,6 +57,22 @@ void main() {
 }
 "#;
 
+/// `POST_FS` with texels addressed by pixel, as post-processing written for a fixed
+/// framebuffer size often does.
+const POST_FETCH_FS: &str = r#"#version 330 core
+in vec2 UV;
+uniform sampler2D screenTexture;
+out vec4 FragColor;
+vec3 at(ivec2 p) { return texelFetch(screenTexture, p, 0).rgb; }
+void main() {
+    ivec2 p = ivec2(gl_FragCoord.xy);
+    vec3 c = 5.0 * at(p) - at(p + ivec2(1, 0)) - at(p - ivec2(1, 0)) - at(p + ivec2(0, 1)) - at(p - ivec2(0, 1));
+    vec2 d = UV - 0.5;
+    float vignette = 1.0 - 0.8 * dot(d, d);
+    FragColor = vec4(clamp(c, 0.0, 1.0) * vignette, 1.0);
+}
+"#;
+
 struct Framebuffers {
     out: Output,
     scene: u32,
@@ -74,7 +92,12 @@ impl Framebuffers {
     fn new(gl: &Gl, o: &Options) -> Result<Self, String> {
         let out = Output::new(o.size);
         let scene = shader::program(gl, mp::SCENE_VS, SCENE_FS)?;
-        let post = shader::program(gl, mp::QUAD_VS, POST_FS)?;
+        let post_fs = if o.switches.contains("texel-fetch") {
+            POST_FETCH_FS
+        } else {
+            POST_FS
+        };
+        let post = shader::program(gl, mp::QUAD_VS, post_fs)?;
         let mut loc = [0; 7];
         for (l, n) in loc
             .iter_mut()
@@ -203,6 +226,10 @@ fn main() -> ExitCode {
             (
                 "late-swizzle",
                 "swap red and blue of the scene texture (GL_TEXTURE_SWIZZLE_R/B) from frame 2 on",
+            ),
+            (
+                "texel-fetch",
+                "the post pass reads its texels with texelFetch at gl_FragCoord (pixel addresses)",
             ),
         ],
     };
