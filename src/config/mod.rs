@@ -80,7 +80,12 @@ pub enum Mode {
     SynthPixel,
     /// K evenly spaced views rendered, the others warped from their two nearest.
     Hybrid(u32),
+    /// K chosen per frame to meet `ViewSettings::frame_budget_ms` (`multiview::auto`).
+    Auto,
 }
+
+/// `--frame-budget` when `--mode auto` is given without one: 30 frames per second.
+pub const DEFAULT_FRAME_BUDGET_MS: f64 = 33.3;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Convergence {
@@ -130,6 +135,8 @@ pub struct ViewSettings {
     pub synth_threshold: f64,
     /// Frames on which the exact quilt is rendered too and the synthesised views compared.
     pub measure_error: Option<FrameSet>,
+    /// `--mode auto`: the frame time to meet (ms).
+    pub frame_budget_ms: f64,
 }
 
 impl ViewSettings {
@@ -144,6 +151,18 @@ impl ViewSettings {
         } else {
             Output::Quilt
         });
+    }
+}
+
+impl ViewSettings {
+    /// `--frame-budget` (value and variable) applies to `--mode auto` only: elsewhere it is
+    /// reported and ignored, like a bad value, so a budget never silently does nothing.
+    fn apply_budget(&mut self, budget: Option<(f64, String)>, report: &mut dyn FnMut(String)) {
+        match budget {
+            Some((ms, _)) if self.mode == Mode::Auto => self.frame_budget_ms = ms,
+            Some((ms, var)) => report(format!("{var}={ms}: applies to --mode auto only; ignored")),
+            None => {}
+        }
     }
 }
 
@@ -163,6 +182,7 @@ impl Default for ViewSettings {
             mode: Mode::Exact,
             synth_threshold: 1.0,
             measure_error: None,
+            frame_budget_ms: DEFAULT_FRAME_BUDGET_MS,
         }
     }
 }
@@ -209,7 +229,7 @@ impl Settings {
         report: &mut dyn FnMut(String),
     ) -> Settings {
         let mut s = Settings::default();
-        let (mut quilt, mut tile, mut output) = (None, None, None);
+        let (mut quilt, mut tile, mut output, mut budget) = (None, None, None, None);
         // The preset itself was chosen (and any problem with it reported) by the caller.
         for opt in options::OPTIONS
             .iter()
@@ -247,10 +267,12 @@ impl Settings {
                 "mode" => s.view.mode = parse::mode(&value).unwrap_or(Mode::Exact),
                 "synth-threshold" => s.view.synth_threshold = parse::synth_threshold(&value).unwrap_or(1.0),
                 "measure-error" => s.view.measure_error = parse::frames(&value).ok(),
+                "frame-budget" => budget = parse::frame_budget(&value).ok().map(|b| (b, var)),
                 _ => {}
             }
         }
         s.view.resolve(quilt, tile, output);
+        s.view.apply_budget(budget, report);
         s
     }
 

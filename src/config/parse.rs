@@ -27,19 +27,31 @@ pub fn quilt(v: &str) -> Result<(u32, u32), String> {
     Ok((c, r))
 }
 
-/// `--mode`: `auto` is not built yet and says so.
+/// `--mode`: `synth:pixel` is not built yet and says so.
 pub fn mode(v: &str) -> Result<Mode, String> {
     match v.trim() {
         "exact" => Ok(Mode::Exact),
         "synth" => Ok(Mode::Synth),
-        "synth:pixel" | "auto" => Err(format!(
-            "`{v}`: not available in this build yet; use exact, synth or hybrid:K"
+        "auto" => Ok(Mode::Auto),
+        "synth:pixel" => Err(format!(
+            "`{v}`: not available in this build yet; use exact, synth, hybrid:K or auto"
         )),
         m => match m.strip_prefix("hybrid:").map(str::parse::<u32>) {
             Some(Ok(k)) if (1..=MAX_VIEWS).contains(&k) => Ok(Mode::Hybrid(k)),
-            _ => Err(format!("`{v}`: expected exact|synth|hybrid:K (K ≥ 1 rendered views)")),
+            _ => Err(format!("`{v}`: expected exact|synth|hybrid:K|auto (K ≥ 1 rendered views)")),
         },
     }
+}
+
+/// `--frame-budget`: milliseconds per frame, 1 to 60,000.
+pub fn frame_budget(v: &str) -> Result<f64, String> {
+    finite(v).and_then(|x| {
+        if (1.0..=60_000.0).contains(&x) {
+            Ok(x)
+        } else {
+            Err(format!("`{v}`: milliseconds per frame in 1..=60000"))
+        }
+    })
 }
 
 /// `--synth-threshold`: pixels of disparity range a grid cell may hold before it is split.
@@ -181,7 +193,10 @@ mod tests {
         assert_eq!(mode("exact"), Ok(Mode::Exact));
         assert_eq!(mode("hybrid:3"), Ok(Mode::Hybrid(3)));
         assert!(mode("synth:pixel").unwrap_err().contains("not available"));
-        assert!(mode("auto").unwrap_err().contains("not available"));
+        assert_eq!(mode("auto"), Ok(Mode::Auto));
+        assert_eq!(frame_budget("100"), Ok(100.0));
+        assert!(frame_budget("0.5").unwrap_err().contains("1..=60000"));
+        assert!(frame_budget("fast").is_err());
         assert!(mode("hybrid:0").unwrap_err().contains("expected"));
         assert!(mode("hybrid:x").unwrap_err().contains("expected"));
         assert!(mode("fast").is_err());
