@@ -38,7 +38,9 @@ pub fn mode(v: &str) -> Result<Mode, String> {
         )),
         m => match m.strip_prefix("hybrid:").map(str::parse::<u32>) {
             Some(Ok(k)) if (1..=MAX_VIEWS).contains(&k) => Ok(Mode::Hybrid(k)),
-            _ => Err(format!("`{v}`: expected exact|synth|hybrid:K|auto (K ≥ 1 rendered views)")),
+            _ => Err(format!(
+                "`{v}`: expected exact|synth|hybrid:K|auto (K ≥ 1 rendered views)"
+            )),
         },
     }
 }

@@ -6,7 +6,7 @@
 //! by the CPU clock does not work on llvmpipe: its draws are binned and rasterised when
 //! something waits for them (the warp's first read of a rendered tile, the swap), so a timer
 //! around the warp measures the views' rasterisation too. K is therefore the only
-//! explanatory variable, and every K's cost is a running mean (`ALPHA`) of its own frames.
+//! explanatory variable, and a K's cost is the median of its last `RECENT` frames.
 //!
 //! **What is predicted.** A frame at K costs `a + r·K + g·K + w·s·(N−K)` below N (a: the
 //! app and presenting; r: replaying one view; g: one source's parallax pyramid and grid; w:
@@ -16,8 +16,9 @@
 //! below (the hybrid line lies above `synth` at K = 1 by `w·(N−1)` and above `exact` at N by
 //! `g·N`), so a K in between is only tried when even that bound fits, and once two of them
 //! have been measured the hybrid line is fitted to them. A measured K is predicted by its own
-//! mean. When the current K's mean moves, every other K's mean is scaled by the same factor:
-//! the scene got heavier or lighter for all K alike.
+//! cost. When the current K's cost moves, every other K's is scaled by the same factor: the
+//! scene got heavier or lighter for all K alike (also when a K is measured again after a
+//! while: what it costs now, against what it was thought to cost, is the scene's drift).
 //!
 //! **What is chosen.** Of the K predicted to fit the budget, the cheapest that renders enough
 //! views for the scene's disocclusions (below), else the largest that fits (the least error:
@@ -32,10 +33,12 @@
 //! distance `d` (in `u`) from its nearest rendered view has about `d` times that in holes;
 //! K is enough when its farthest view's share is under `HOLE_TOLERANCE`.
 //!
-//! **Hysteresis.** The current K keeps fitting up to 5 % over the budget and another K must
-//! fit 5 % under it (or be 5 % cheaper); a change is made after it has been called for on
-//! `PATIENCE` frames in a row; the first frame after a change (resources reallocated) and the
-//! first frames of the process are not measured. Each change is logged at info.
+//! **Hysteresis.** The current K keeps fitting up to 5 % over the budget, another K must fit
+//! under it (and, to be chosen for being cheaper, be 5 % cheaper); a change is made after it has been called for on
+//! `PATIENCE` frames in a row (an end measured only to know its cost is left after its first
+//! measured frame: exact can cost seconds a frame); the first frame after a change
+//! (resources reallocated) and the first frames of the process are not measured. Each change
+//! is logged at info, and every `STATUS_FRAMES` frames at one K their median time.
 
 use super::Multiview;
 use super::plan::ViewPlan;
@@ -47,8 +50,8 @@ use std::time::Instant;
 const WARM_UP: u64 = 3;
 /// Frames after a change of K whose time is not used.
 const SETTLE: u32 = 1;
-/// Weight of a new frame in its K's running mean.
-const ALPHA: f64 = 0.3;
+/// Frames at the current K whose median is its cost.
+const RECENT: usize = 5;
 /// Dead band around the budget, as a fraction of it.
 const BAND: f64 = 0.05;
 /// Frames in a row a change must be called for before it is made.
@@ -57,6 +60,9 @@ const PATIENCE: u32 = 3;
 /// stretching: 0.2 % (about 470 pixels of a 420x560 tile), in the range where
 /// `--measure-error` on `cubes` puts stretched holes at or above 30 dB.
 const HOLE_TOLERANCE: f64 = 0.002;
+
+const MEASURING_SYNTH: &str = "measuring synth";
+const MEASURING_EXACT: &str = "measuring exact";
 
 /// What the scene's depth says about the views it needs.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -83,20 +89,30 @@ pub struct Controller {
     budget_ms: f64,
     threshold_px: f64,
     k: u32,
-    /// Running mean frame time by K − 1; `None` until a frame at that K has been measured.
+    /// Estimated frame time by K − 1; `None` until a frame at that K has been measured.
     costs: Vec<Option<f64>>,
+    /// The last frame times at the current K.
+    recent: Vec<f64>,
     /// Largest `u` distance from a view to its nearest rendered view, by K − 1.
     distance: Vec<f64>,
     since_change: u32,
     pending: Option<(u32, u32)>,
     needs: Option<SceneNeeds>,
+    /// The current K was chosen to be measured: it is left as soon as it has been.
+    probing: bool,
 }
 
 impl Controller {
     /// `views` views, starting at K = 1; `threshold_px`: `--synth-threshold`.
     pub fn new(views: u32, budget_ms: f64, threshold_px: f64) -> Controller {
         let n = views.max(1);
-        let u = |i: u32| if n <= 1 { 0.0 } else { 2.0 * i as f64 / (n - 1) as f64 - 1.0 };
+        let u = |i: u32| {
+            if n <= 1 {
+                0.0
+            } else {
+                2.0 * i as f64 / (n - 1) as f64 - 1.0
+            }
+        };
         let distance = (1..=n)
             .map(|k| {
                 let mut plan = ViewPlan::new(Mode::Auto, n);
@@ -110,10 +126,12 @@ impl Controller {
             threshold_px,
             k: 1,
             costs: vec![None; n as usize],
+            recent: Vec::new(),
             distance,
             since_change: 0,
             pending: None,
             needs: None,
+            probing: false,
         }
     }
 
@@ -148,7 +166,7 @@ impl Controller {
             _ => 1,
         };
         self.pending = Some((want, count));
-        if count < PATIENCE {
+        if count < PATIENCE && !self.probing {
             return None;
         }
         let change = Change {
@@ -158,22 +176,30 @@ impl Controller {
             why,
         };
         (self.k, self.since_change, self.pending) = (want, 0, None);
+        self.recent.clear();
+        self.probing = [MEASURING_SYNTH, MEASURING_EXACT].contains(&why);
         Some(change)
     }
 
+    /// A frame at the current K took `ms`: its estimate becomes the median of its last
+    /// `RECENT` frames (a step in cost is followed within half of them, noise is not), and
+    /// every other K's estimate moves by the same factor.
     fn observe(&mut self, ms: f64) {
+        if self.recent.len() == RECENT {
+            self.recent.remove(0);
+        }
+        self.recent.push(ms);
+        let mut sorted = self.recent.clone();
+        sorted.sort_by(f64::total_cmp);
+        let new = sorted[sorted.len() / 2];
         let i = (self.k - 1) as usize;
-        let Some(old) = self.costs[i] else {
-            self.costs[i] = Some(ms);
-            return;
-        };
-        let new = old + ALPHA * (ms - old);
-        let factor = new / old;
+        let factor = self.costs[i].map_or(1.0, |old| new / old);
         for (j, c) in self.costs.iter_mut().enumerate() {
-            if let Some(c) = c {
-                *c = if j == i { new } else { *c * factor };
+            if let Some(c) = c.as_mut().filter(|_| j != i) {
+                *c *= factor;
             }
         }
+        self.costs[i] = Some(new);
     }
 
     /// The predicted frame time at `k`, once both ends have been measured (or `k` itself).
@@ -216,7 +242,7 @@ impl Controller {
         if self.costs[(self.k - 1) as usize].is_none() {
             return (self.k, "");
         }
-        for (end, why) in [(1, "measuring synth"), (self.views, "measuring exact")] {
+        for (end, why) in [(1, MEASURING_SYNTH), (self.views, MEASURING_EXACT)] {
             if self.costs[(end - 1) as usize].is_none() {
                 return (end, why);
             }
@@ -227,7 +253,7 @@ impl Controller {
     /// Cheapest sufficient K that fits, else the largest that fits, else the fastest; the
     /// current K is favoured by the dead band.
     fn choose(&self) -> (u32, &'static str) {
-        let band = |k: u32| if k == self.k { 1.0 + BAND } else { 1.0 - BAND };
+        let band = |k: u32| if k == self.k { 1.0 + BAND } else { 1.0 };
         let predicted: Vec<(u32, f64)> = (1..=self.views).filter_map(|k| Some((k, self.predict(k)?))).collect();
         let fits: Vec<(u32, f64)> = predicted
             .iter()
@@ -257,9 +283,9 @@ impl Controller {
 fn fit_line(points: &[(f64, f64)], x: f64) -> f64 {
     let n = points.len() as f64;
     let (mx, my) = points.iter().fold((0.0, 0.0), |(a, b), p| (a + p.0 / n, b + p.1 / n));
-    let (sxy, sxx) = points
-        .iter()
-        .fold((0.0, 0.0), |(a, b), p| (a + (p.0 - mx) * (p.1 - my), b + (p.0 - mx).powi(2)));
+    let (sxy, sxx) = points.iter().fold((0.0, 0.0), |(a, b), p| {
+        (a + (p.0 - mx) * (p.1 - my), b + (p.0 - mx).powi(2))
+    });
     let slope = if sxx > 0.0 { sxy / sxx } else { 0.0 };
     my + slope * (x - mx)
 }
@@ -267,7 +293,14 @@ fn fit_line(points: &[(f64, f64)], x: f64) -> f64 {
 /// The parallax range and disocclusions of a scene from its window depths (`width` per row):
 /// parallax `1 − c/w` (1 at the far plane), `px_per_parallax` tile pixels per unit of it in
 /// the outermost view.
-pub fn scene_needs(depths: &[f32], width: usize, range: DepthRange, c: f64, px_per_parallax: f64, threshold_px: f64) -> Option<SceneNeeds> {
+pub fn scene_needs(
+    depths: &[f32],
+    width: usize,
+    range: DepthRange,
+    c: f64,
+    px_per_parallax: f64,
+    threshold_px: f64,
+) -> Option<SceneNeeds> {
     let parallax = |d: f32| -> Option<f64> {
         if d >= 1.0 {
             return Some(1.0);
@@ -295,10 +328,15 @@ pub fn scene_needs(depths: &[f32], width: usize, range: DepthRange, c: f64, px_p
     })
 }
 
-/// The controller of a context in `--mode auto`, and the clock between its frames.
+/// Plain frames at one K between two status lines.
+const STATUS_FRAMES: usize = 20;
+
+/// The controller of a context in `--mode auto`, the clock between its frames, and the
+/// frame times at the current K since the last status line (frame numbers, ms).
 pub struct Auto {
     pub controller: Controller,
     last: Option<Instant>,
+    times: Vec<(u64, f64)>,
 }
 
 impl Auto {
@@ -307,6 +345,7 @@ impl Auto {
         (mode == Mode::Auto).then(|| Auto {
             controller: Controller::new(views, settings.frame_budget_ms, settings.synth_threshold),
             last: None,
+            times: Vec::new(),
         })
     }
 }
@@ -322,9 +361,14 @@ pub fn end_frame(mv: &mut Multiview, frame: u64) {
         .replace(now)
         .filter(|_| plain)
         .map(|t| now.duration_since(t).as_secs_f64() * 1e3);
-    let Some(change) = auto.controller.frame(ms) else { return };
+    let k = auto.controller.k();
+    let Some(change) = auto.controller.frame(ms) else {
+        auto.times.extend(ms.map(|ms| (frame, ms)));
+        return status(auto, k);
+    };
+    auto.times.clear();
     crate::log::info(format_args!(
-        "auto: K {} → {} (predicted {}, budget {:.1} ms; {})",
+        "auto: frame {frame}: K {} → {} (predicted {}, budget {:.1} ms; {})",
         change.from,
         change.to,
         change.predicted_ms.map_or("unknown".into(), |t| format!("{t:.1} ms")),
@@ -332,6 +376,21 @@ pub fn end_frame(mv: &mut Multiview, frame: u64) {
         change.why
     ));
     mv.plan.set_rendered(change.to);
+}
+
+/// Every `STATUS_FRAMES` plain frames at K = `k`: their median time against the budget.
+fn status(auto: &mut Auto, k: u32) {
+    if auto.times.len() < STATUS_FRAMES {
+        return;
+    }
+    let (first, last) = (auto.times[0].0, auto.times[auto.times.len() - 1].0);
+    let mut ms: Vec<f64> = auto.times.drain(..).map(|(_, t)| t).collect();
+    ms.sort_by(f64::total_cmp);
+    crate::log::info(format_args!(
+        "auto: K {k}: median {:.1} ms over frames {first}-{last} (budget {:.1} ms)",
+        ms[ms.len() / 2],
+        auto.controller.budget_ms()
+    ));
 }
 
 /// The scene's depth, read back at the swap (`width` values per row), handed to the

@@ -17,7 +17,10 @@ struct Noise(u64, f64);
 
 impl Noise {
     fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
         1.0 + self.1 * (((self.0 >> 33) as f64 / (1u64 << 31) as f64) * 2.0 - 1.0)
     }
 }
