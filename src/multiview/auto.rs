@@ -24,7 +24,8 @@
 //! views for the scene's disocclusions (below), else the largest that fits (the least error:
 //! the most views rendered), else, when nothing fits, the fastest. A scene whose disparity
 //! range is under the synthesis threshold (flat, or far away) is warped exactly from one
-//! view: K = 1 whatever the budget, and nothing else is measured.
+//! view: K = 1 whatever the budget, and nothing else is measured; so is a program without a
+//! perspective camera (nothing is shifted: every view is the same image).
 //!
 //! **What the scene needs.** From the scene's depth (the copy auto-convergence reads back at
 //! the swap, also taken in this mode when the convergence is fixed): the parallax range, and
@@ -337,6 +338,8 @@ pub struct Auto {
     pub controller: Controller,
     last: Option<Instant>,
     times: Vec<(u64, f64)>,
+    /// The frame that just ended rendered the centre view, whose depth is read back.
+    centre_rendered: bool,
 }
 
 impl Auto {
@@ -346,6 +349,7 @@ impl Auto {
             controller: Controller::new(views, settings.frame_budget_ms, settings.synth_threshold),
             last: None,
             times: Vec::new(),
+            centre_rendered: false,
         })
     }
 }
@@ -354,6 +358,14 @@ impl Auto {
 /// controller asks for from the next frame on.
 pub fn end_frame(mv: &mut Multiview, frame: u64) {
     let Some(auto) = mv.auto.as_mut() else { return };
+    if mv.camera.last_depth.is_none() {
+        // No perspective camera (yet): every view is the same image.
+        auto.controller.scene(SceneNeeds {
+            range_px: 0.0,
+            holes_per_u: 0.0,
+        });
+    }
+    auto.centre_rendered = mv.plan.renders(mv.camera.rig.centre());
     let now = Instant::now();
     let plain = frame > WARM_UP && !(mv.plan.all && mv.plan.fast());
     let ms = auto
@@ -394,9 +406,12 @@ fn status(auto: &mut Auto, k: u32) {
 }
 
 /// The scene's depth, read back at the swap (`width` values per row), handed to the
-/// controller.
+/// controller. It is the centre view's: at an even K, which does not render the centre, it
+/// is not this frame's and is left out.
 pub fn scene_depth(mv: &mut Multiview, depths: &[f32], width: usize, range: DepthRange) {
-    let Some(auto) = mv.auto.as_mut() else { return };
+    let Some(auto) = mv.auto.as_mut().filter(|a| a.centre_rendered) else {
+        return;
+    };
     let rig = mv.camera.rig;
     let tile_w = mv.target.as_ref().map_or(1, |t| t.layout.tile_w);
     let px = rig.depthiness * f64::from(tile_w) / 2.0;
