@@ -16,9 +16,10 @@
 //! below (the hybrid line lies above `synth` at K = 1 by `w·(N−1)` and above `exact` at N by
 //! `g·N`), so a K in between is only tried when even that bound fits, and once two of them
 //! have been measured the hybrid line is fitted to them. A measured K is predicted by its own
-//! cost. When the current K's cost moves, every other K's is scaled by the same factor: the
-//! scene got heavier or lighter for all K alike (also when a K is measured again after a
-//! while: what it costs now, against what it was thought to cost, is the scene's drift).
+//! cost. While the controller stays at one K and its cost moves, every other K's is scaled by
+//! the same factor: the scene got heavier or lighter for all K alike. (A K measured again
+//! after a while is not taken as drift: its first frames after a change are too noisy, and
+//! two K visited in turn would drag each other's estimates and oscillate.)
 //!
 //! **What is chosen.** Of the K predicted to fit the budget, the cheapest that renders enough
 //! views for the scene's disocclusions (below), else the largest that fits (the least error:
@@ -36,8 +37,8 @@
 //!
 //! **Hysteresis.** The current K keeps fitting up to 5 % over the budget, another K must fit
 //! under it (and, to be chosen for being cheaper, be 5 % cheaper); a change is made after it has been called for on
-//! `PATIENCE` frames in a row (an end measured only to know its cost is left after its first
-//! measured frame: exact can cost seconds a frame); the first frame after a change
+//! `PATIENCE` frames in a row (an end measured only to know its cost is left after
+//! `PROBE_FRAMES` measured frames: exact can cost seconds a frame); the first frame after a change
 //! (resources reallocated) and the first frames of the process are not measured. Each change
 //! is logged at info, and every `STATUS_FRAMES` frames at one K their median time.
 
@@ -48,7 +49,7 @@ use crate::config::Mode;
 use std::time::Instant;
 
 /// Frames of the process whose time is not used (programs linked, resources created).
-const WARM_UP: u64 = 3;
+const WARM_UP: u64 = 5;
 /// Frames after a change of K whose time is not used.
 const SETTLE: u32 = 1;
 /// Frames at the current K whose median is its cost.
@@ -57,6 +58,8 @@ const RECENT: usize = 5;
 const BAND: f64 = 0.05;
 /// Frames in a row a change must be called for before it is made.
 const PATIENCE: u32 = 3;
+/// Frames an end measured only to know its cost is measured for.
+const PROBE_FRAMES: usize = 2;
 /// Share of a synthesised tile's pixels in disocclusions that is left to the warp's
 /// stretching: 0.2 % (about 470 pixels of a 420x560 tile), in the range where
 /// `--measure-error` on `cubes` puts stretched holes at or above 30 dB.
@@ -167,7 +170,7 @@ impl Controller {
             _ => 1,
         };
         self.pending = Some((want, count));
-        if count < PATIENCE && !self.probing {
+        if count < PATIENCE && !(self.probing && self.recent.len() >= PROBE_FRAMES) {
             return None;
         }
         let change = Change {
@@ -183,8 +186,8 @@ impl Controller {
     }
 
     /// A frame at the current K took `ms`: its estimate becomes the median of its last
-    /// `RECENT` frames (a step in cost is followed within half of them, noise is not), and
-    /// every other K's estimate moves by the same factor.
+    /// `RECENT` frames (a step in cost is followed within half of them, noise is not); while
+    /// the controller stays at this K, every other K's estimate moves by the same factor.
     fn observe(&mut self, ms: f64) {
         if self.recent.len() == RECENT {
             self.recent.remove(0);
@@ -194,7 +197,10 @@ impl Controller {
         sorted.sort_by(f64::total_cmp);
         let new = sorted[sorted.len() / 2];
         let i = (self.k - 1) as usize;
-        let factor = self.costs[i].map_or(1.0, |old| new / old);
+        let factor = match self.costs[i] {
+            Some(old) if self.recent.len() > 1 => new / old,
+            _ => 1.0,
+        };
         for (j, c) in self.costs.iter_mut().enumerate() {
             if let Some(c) = c.as_mut().filter(|_| j != i) {
                 *c *= factor;
