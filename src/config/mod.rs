@@ -93,7 +93,12 @@ pub enum Mode {
     Hybrid(u32),
     /// As `Hybrid`, the others splatted per pixel from their two nearest.
     HybridPixel(u32),
+    /// K chosen per frame to meet `ViewSettings::frame_budget_ms` (`multiview::auto`).
+    Auto,
 }
+
+/// `--frame-budget` when `--mode auto` is given without one: 30 frames per second.
+pub const DEFAULT_FRAME_BUDGET_MS: f64 = 33.3;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Convergence {
@@ -145,6 +150,8 @@ pub struct ViewSettings {
     pub synth_warp: SynthWarp,
     /// Frames on which the exact quilt is rendered too and the synthesised views compared.
     pub measure_error: Option<FrameSet>,
+    /// `--mode auto`: the frame time to meet (ms).
+    pub frame_budget_ms: f64,
 }
 
 /// How synthesised views are warped (README "Choosing a mode").
@@ -172,6 +179,18 @@ impl ViewSettings {
     }
 }
 
+impl ViewSettings {
+    /// `--frame-budget` (value and variable) applies to `--mode auto` only: elsewhere it is
+    /// reported and ignored, like a bad value, so a budget never silently does nothing.
+    fn apply_budget(&mut self, budget: Option<(f64, String)>, report: &mut dyn FnMut(String)) {
+        match budget {
+            Some((ms, _)) if self.mode == Mode::Auto => self.frame_budget_ms = ms,
+            Some((ms, var)) => report(format!("{var}={ms}: applies to --mode auto only; ignored")),
+            None => {}
+        }
+    }
+}
+
 impl Default for ViewSettings {
     fn default() -> Self {
         ViewSettings {
@@ -190,6 +209,7 @@ impl Default for ViewSettings {
             synth_threshold: 1.0,
             synth_warp: SynthWarp::Rows,
             measure_error: None,
+            frame_budget_ms: DEFAULT_FRAME_BUDGET_MS,
         }
     }
 }
@@ -236,7 +256,7 @@ impl Settings {
         report: &mut dyn FnMut(String),
     ) -> Settings {
         let mut s = Settings::default();
-        let (mut quilt, mut tile, mut output) = (None, None, None);
+        let (mut quilt, mut tile, mut output, mut budget) = (None, None, None, None);
         // The preset itself was chosen (and any problem with it reported) by the caller.
         for opt in options::OPTIONS
             .iter()
@@ -276,10 +296,12 @@ impl Settings {
                 "synth-threshold" => s.view.synth_threshold = parse::synth_threshold(&value).unwrap_or(1.0),
                 "synth-warp" => s.view.synth_warp = parse::synth_warp(&value).unwrap_or(SynthWarp::Rows),
                 "measure-error" => s.view.measure_error = parse::frames(&value).ok(),
+                "frame-budget" => budget = parse::frame_budget(&value).ok().map(|b| (b, var)),
                 _ => {}
             }
         }
         s.view.resolve(quilt, tile, output);
+        s.view.apply_budget(budget, report);
         s
     }
 

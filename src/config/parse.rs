@@ -27,15 +27,13 @@ pub fn quilt(v: &str) -> Result<(u32, u32), String> {
     Ok((c, r))
 }
 
-/// `--mode`: `auto` is not built yet and says so.
+/// `--mode`: `synth:pixel` is not built yet and says so.
 pub fn mode(v: &str) -> Result<Mode, String> {
     match v.trim() {
         "exact" => Ok(Mode::Exact),
         "synth" => Ok(Mode::Synth),
         "synth:pixel" => Ok(Mode::SynthPixel),
-        "auto" => Err(format!(
-            "`{v}`: not available in this build yet; use exact, synth[:pixel] or hybrid:K[:pixel]"
-        )),
+        "auto" => Ok(Mode::Auto),
         m => {
             let (k, pixel) = match m.strip_suffix(":pixel") {
                 Some(k) => (k, true),
@@ -45,11 +43,22 @@ pub fn mode(v: &str) -> Result<Mode, String> {
                 Some(Ok(k)) if (1..=MAX_VIEWS).contains(&k) && pixel => Ok(Mode::HybridPixel(k)),
                 Some(Ok(k)) if (1..=MAX_VIEWS).contains(&k) => Ok(Mode::Hybrid(k)),
                 _ => Err(format!(
-                    "`{v}`: expected exact|synth[:pixel]|hybrid:K[:pixel] (K ≥ 1 rendered views)"
+                    "`{v}`: expected exact|synth[:pixel]|hybrid:K[:pixel]|auto (K ≥ 1 rendered views)"
                 )),
             }
         }
     }
+}
+
+/// `--frame-budget`: milliseconds per frame, 1 to 60,000.
+pub fn frame_budget(v: &str) -> Result<f64, String> {
+    finite(v).and_then(|x| {
+        if (1.0..=60_000.0).contains(&x) {
+            Ok(x)
+        } else {
+            Err(format!("`{v}`: milliseconds per frame in 1..=60000"))
+        }
+    })
 }
 
 /// `--synth-threshold`: pixels of disparity range a grid cell may hold before it is split.
@@ -216,7 +225,10 @@ mod tests {
         assert_eq!(mode("hybrid:2:pixel"), Ok(Mode::HybridPixel(2)));
         assert!(mode("hybrid:0:pixel").unwrap_err().contains("expected"));
         assert!(mode("exact:pixel").unwrap_err().contains("expected"));
-        assert!(mode("auto").unwrap_err().contains("not available"));
+        assert_eq!(mode("auto"), Ok(Mode::Auto));
+        assert_eq!(frame_budget("100"), Ok(100.0));
+        assert!(frame_budget("0.5").unwrap_err().contains("1..=60000"));
+        assert!(frame_budget("fast").is_err());
         assert!(mode("hybrid:0").unwrap_err().contains("expected"));
         assert!(mode("hybrid:x").unwrap_err().contains("expected"));
         assert!(mode("fast").is_err());

@@ -130,7 +130,8 @@ fn checked_describe(gl: &Gl, mv: &Multiview, fbo: u32, from: Source) -> Result<S
 /// At the swap: the frame's estimate, and the next frame's scene target.
 pub fn update_convergence(gl: &Gl, app: &mut AppState, mv: &mut Multiview) {
     let Some(layout) = mv.layout() else { return };
-    if mv.settings.convergence == Convergence::Auto {
+    // `--mode auto` reads the scene's depth too, for what the scene needs (`auto`).
+    if mv.settings.convergence == Convergence::Auto || mv.auto.is_some() {
         if mv.scene.tracker.phase == Phase::Drawn {
             take_depth(gl, app, mv);
         }
@@ -153,6 +154,11 @@ fn estimate(gl: &Gl, mv: &mut Multiview) {
         Ok(d) => d,
         Err(e) => return unreadable(target, &e),
     };
+    let width = mv.scene.copy.copied().1[2].max(1) as usize;
+    super::auto::scene_depth(mv, &depths, width, range);
+    if mv.settings.convergence != Convergence::Auto {
+        return;
+    }
     let Some(c) = convergence::estimate(&depths, range) else {
         return;
     };

@@ -17,6 +17,7 @@
 //! state (`state`) nor the presenting passes (`output::Presenter`); functions take those
 //! they need as arguments.
 
+pub mod auto;
 pub mod convergence;
 pub mod downscale;
 pub mod framebuffer;
@@ -107,6 +108,8 @@ pub struct Multiview {
     pub synth: crate::synth::Synthesizer,
     /// `--measure-error`: the exact quilt kept on measured frames.
     pub measure: Option<measure::ErrorMeasure>,
+    /// `--mode auto`: the choice of K.
+    pub auto: Option<auto::Auto>,
 }
 
 impl Multiview {
@@ -114,8 +117,10 @@ impl Multiview {
     pub fn new(info: GlInfo, settings: ViewSettings, window: (u32, u32)) -> Multiview {
         let layout = QuiltLayout::new(settings.quilt, settings.tile, window);
         let camera = CameraEstimate::new(&settings, layout.views(), layout.tile_w);
-        let plan = plan::ViewPlan::new(synthesis::mode_for(&settings, info), layout.views());
+        let mode = synthesis::mode_for(&settings, info);
+        let plan = plan::ViewPlan::new(mode, layout.views());
         let measure = (plan.fast() && settings.measure_error.is_some()).then(Default::default);
+        let auto = auto::Auto::new(mode, &settings, layout.views());
         Multiview {
             info,
             settings,
@@ -139,6 +144,7 @@ impl Multiview {
             plan,
             synth: Default::default(),
             measure,
+            auto,
         }
     }
 

@@ -37,6 +37,8 @@ impl ViewPlan {
             Mode::SynthPixel => (vec![n / 2], true),
             Mode::Hybrid(k) => (spaced(k, n), false),
             Mode::HybridPixel(k) => (spaced(k, n), true),
+            // `auto` starts from the centre view; `auto` changes K with `set_rendered`.
+            Mode::Auto => (vec![n / 2], false),
         };
         let mut mask = vec![false; n as usize];
         for &r in &rendered {
@@ -51,6 +53,17 @@ impl ViewPlan {
             scene_dirty: false,
             warped: false,
             per_pixel,
+        }
+    }
+
+    /// From the next `new_frame` on, K evenly spaced views are rendered (as `hybrid:K`;
+    /// K = 1: the centre, K ≥ N: every view).
+    pub fn set_rendered(&mut self, k: u32) {
+        let n = self.views();
+        self.rendered = spaced(k, n);
+        self.mask = vec![false; n as usize];
+        for &r in &self.rendered {
+            self.mask[r as usize] = true;
         }
     }
 
@@ -150,6 +163,19 @@ mod tests {
         assert!(ViewPlan::new(Mode::Hybrid(48), 48).all);
         assert!(ViewPlan::new(Mode::Hybrid(99), 9).all);
         assert!(!ViewPlan::new(Mode::Synth, 9).all);
+    }
+
+    #[test]
+    fn set_rendered_takes_effect_at_the_next_frame() {
+        let mut p = ViewPlan::new(Mode::Auto, 9);
+        assert_eq!(p.rendered, vec![4]);
+        p.set_rendered(3);
+        p.new_frame(false);
+        assert_eq!(p.rendered, vec![0, 4, 8]);
+        assert!(p.fast() && !p.all && !p.draws(1) && p.draws(8));
+        p.set_rendered(9);
+        p.new_frame(false);
+        assert!(!p.fast() && p.all && !p.synthesise);
     }
 
     #[test]

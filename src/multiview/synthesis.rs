@@ -66,6 +66,7 @@ pub fn end_frame(gl: &Gl, mv: &mut Multiview, frame: u64) {
         .measure_error
         .as_ref()
         .is_some_and(|f| f.contains(frame + 1));
+    super::auto::end_frame(mv, frame);
     mv.plan.new_frame(measured && mv.measure.is_some());
 }
 
@@ -84,6 +85,7 @@ pub fn warp(gl: &Gl, mv: &mut Multiview) {
             format_args!("view synthesis failed ({e}); every view is rendered exactly from now on"),
         );
         mv.plan = super::plan::ViewPlan::new(crate::config::Mode::Exact, mv.plan.views());
+        mv.auto = None;
     }
 }
 

@@ -10,6 +10,7 @@
 
 mod util;
 
+mod auto_mode;
 mod bad_input;
 mod convergence;
 mod fbo_scale;
