@@ -46,6 +46,8 @@ pub static OPTIONS: &[OptDef] = &[
         |v| super::preset::load_spec(v, &|k| std::env::var(k).ok()).map(|_| ())),
     opt("mode", "exact|synth|hybrid:K", "how views are made: exact re-renders every view (default); synth renders the centre and warps the rest; hybrid:K renders K and warps the rest from the two nearest",
         |v| super::parse::mode(v).map(|_| ())),
+    OptDef { long: "reuse", value: "", help: "with synth or hybrid:K: render a rotating set of views and keep each view's last exact render while the scene is unchanged, so a still scene becomes exact",
+        check: |v| super::parse::switch(v).map(|_| ()), launcher_only: false },
     opt("synth-threshold", "PX", "synthesis: split a grid cell while its disparity range in the outermost view exceeds PX tile pixels (default 1)",
         |v| super::parse::synth_threshold(v).map(|_| ())),
     opt("measure-error", "LIST|every:N", "on these frames render the exact quilt too and log each synthesised view's PSNR against it",
