@@ -19,6 +19,7 @@
 
 pub mod convergence;
 pub mod framebuffer;
+pub mod history;
 pub mod immediate;
 pub mod layered;
 pub mod layers;
@@ -29,6 +30,7 @@ pub mod measure;
 pub mod plan;
 pub mod raster;
 pub mod replay;
+pub mod reuse;
 pub mod sampling;
 pub mod scene;
 pub mod screen_space;
@@ -103,6 +105,8 @@ pub struct Multiview {
     pub synth: crate::synth::Synthesizer,
     /// `--measure-error`: the exact quilt kept on measured frames.
     pub measure: Option<measure::ErrorMeasure>,
+    /// `--reuse`: the rotation of rendered views and the history quilt.
+    pub reuse: Option<reuse::Reuse>,
 }
 
 impl Multiview {
@@ -110,8 +114,10 @@ impl Multiview {
     pub fn new(info: GlInfo, settings: ViewSettings, window: (u32, u32)) -> Multiview {
         let layout = QuiltLayout::new(settings.quilt, settings.tile, window);
         let camera = CameraEstimate::new(&settings, layout.views(), layout.tile_w);
-        let plan = plan::ViewPlan::new(synthesis::mode_for(&settings, info), layout.views());
+        let mode = synthesis::mode_for(&settings, info);
+        let plan = plan::ViewPlan::new(mode, layout.views());
         let measure = (plan.fast() && settings.measure_error.is_some()).then(Default::default);
+        let reuse = reuse::Reuse::new(&settings, mode, layout.views());
         Multiview {
             info,
             settings,
@@ -134,6 +140,7 @@ impl Multiview {
             plan,
             synth: Default::default(),
             measure,
+            reuse,
         }
     }
 
@@ -176,6 +183,12 @@ impl Multiview {
         if let Some(m) = &self.measure {
             o.textures.push(m.texture());
         }
+        if let Some(h) = self.reuse.as_ref().and_then(|r| r.history.as_ref()) {
+            let (textures, renderbuffers, programs) = h.shared_objects();
+            o.textures.extend(textures);
+            o.renderbuffers.extend(renderbuffers);
+            o.programs.extend(programs);
+        }
         o.lists.push(self.immediate_list);
         o.without_zeros()
     }
@@ -185,9 +198,10 @@ impl Multiview {
     pub fn context_objects(&self) -> ContextObjects {
         let (copy_fbos, copy_vaos) = self.scene.context_objects();
         let views: usize = self.shadows.values().map(|s| s.views.len()).sum();
+        let history = self.reuse.as_ref().is_some_and(|r| r.history.is_some());
         ContextObjects {
-            framebuffers: usize::from(self.target.is_some()) + views + copy_fbos,
-            vertex_arrays: copy_vaos,
+            framebuffers: usize::from(self.target.is_some()) + views + copy_fbos + 2 * usize::from(history),
+            vertex_arrays: copy_vaos + usize::from(history),
         }
     }
 

@@ -53,6 +53,18 @@ impl ViewPlan {
         }
     }
 
+    /// Renders `rendered` (ascending) from the next frame on (`--reuse` rotates the set);
+    /// `new_frame` then decides the rest.
+    pub fn set_rendered(&mut self, rendered: Vec<u32>) {
+        self.mask.iter_mut().for_each(|m| *m = false);
+        for &r in &rendered {
+            if let Some(m) = self.mask.get_mut(r as usize) {
+                *m = true;
+            }
+        }
+        self.rendered = rendered;
+    }
+
     pub fn views(&self) -> u32 {
         self.mask.len() as u32
     }

@@ -63,6 +63,8 @@ pub struct Options {
     pub alpha: bool,
     /// Draw with `GL_FRAMEBUFFER_SRGB` enabled (desktop GL).
     pub srgb: bool,
+    /// `--freeze F`: frames after F show frame F (time stops).
+    pub freeze: Option<u64>,
 }
 
 impl Options {
@@ -113,7 +115,8 @@ pub fn usage(app: &AppInfo) -> String {
          --debug-output         count GL errors via KHR_debug; print `gl-debug: errors=N` at exit\n\
          --samples N            multisampled default framebuffer, N samples (glx, egl, egl-x11)\n\
          --no-alpha             default framebuffer without alpha bits (glx, egl, egl-x11)\n\
-         --srgb                 draw with GL_FRAMEBUFFER_SRGB enabled (desktop GL)\n",
+         --srgb                 draw with GL_FRAMEBUFFER_SRGB enabled (desktop GL)\n\
+         --freeze F             from frame F on (counted from 0), draw frame F again: a still scene\n",
         name = app.name,
         about = app.about,
         conv = app.default_convergence
@@ -154,6 +157,7 @@ pub fn parse(args: &[String], app: &AppInfo) -> Result<Option<Options>, String> 
         samples: 0,
         alpha: true,
         srgb: false,
+        freeze: None,
     };
     let mut tile = None;
     let mut it = args.iter();
@@ -186,6 +190,7 @@ pub fn parse(args: &[String], app: &AppInfo) -> Result<Option<Options>, String> 
             "--size" => o.size = parse_pair(flag, val)?,
             "--frames" => o.frames = parse_num(flag, val)?,
             "--samples" => o.samples = parse_num(flag, val)?,
+            "--freeze" => o.freeze = Some(parse_num(flag, val)?),
             "--screenshot" => o.screenshot = Some(val.into()),
             "--depth-out" => o.depth_out = Some(val.into()),
             "--reference-quilt" => o.quilt = Some(parse_pair(flag, val)?),
