@@ -117,7 +117,11 @@ impl Multiview {
         let mode = synthesis::mode_for(&settings, info);
         let plan = plan::ViewPlan::new(mode, layout.views());
         let measure = (plan.fast() && settings.measure_error.is_some()).then(Default::default);
-        let reuse = reuse::Reuse::new(&settings, mode, layout.views());
+        let mut plan = plan;
+        let mut reuse = reuse::Reuse::new(&settings, mode, layout.views());
+        if let Some(r) = reuse.as_mut() {
+            plan.set_rendered(r.rotation.next_rendered());
+        }
         Multiview {
             info,
             settings,

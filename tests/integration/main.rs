@@ -18,5 +18,6 @@ mod layer_library;
 mod output_modes;
 mod real_programs;
 mod reattachment;
+mod reuse;
 mod sample_apps;
 mod synthesis;

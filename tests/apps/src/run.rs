@@ -143,7 +143,7 @@ fn run(o: &Options, profile: Profile, make: Box<MakeScene>) -> Result<(), String
     while !STOP.load(Ordering::SeqCst) && last.is_none_or(|l| frame <= l) {
         let start = Instant::now();
         // What the scene shows: time stops at `--freeze`.
-        let shown = o.freeze.map_or(frame, |f| frame.min(f));
+        let shown = o.shown(frame);
         match &bench {
             Some(b) => b.frame(&gl, scene.as_mut(), shown, o, (w, h)),
             None => scene.render(&gl, shown, &normal),
