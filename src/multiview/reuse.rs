@@ -2,9 +2,9 @@
 //! points from frame to frame and adds a few new ones each frame).
 //!
 //! A fast mode renders K of N views and synthesises the rest, every frame, even when nothing
-//! moves. With `--reuse` each frame renders a *rotating* set instead — phase `p` of
-//! `P = ⌈N/K⌉` is the views `v ≡ p (mod P)`, at most K of them — plus the centre view, every
-//! frame. Every rendered view is kept (colour, depth and stencil of its tile, before anything
+//! moves. With `--reuse` each frame renders a *rotating* set instead — the centre view, every
+//! frame, and phase `p` of `P = ⌈(N-1)/K⌉ ≤ ⌈N/K⌉`: every P-th of the other views from the
+//! p-th on, at most K of them. Every rendered view is kept (colour, depth and stencil of its tile, before anything
 //! is drawn over the scene) in a history quilt of the quilt's own layout and formats
 //! (`history`), marked with the *epoch* it was rendered in. While the epoch lasts, a view not
 //! rendered this frame is shown from the history: exact. So a still scene is exact in every
@@ -74,6 +74,8 @@ pub struct Rotation {
     centre: u32,
     /// The plain mode's rendered views (K evenly spaced).
     spaced: Vec<u32>,
+    /// Every view but the centre, which the phases share out.
+    others: Vec<u32>,
     period: u32,
     phase: u32,
     epoch: u64,
@@ -96,10 +98,12 @@ impl Rotation {
             Mode::Exact => return None,
         };
         let spaced = ViewPlan::new(mode, views).rendered;
+        let centre = views / 2;
+        let others: Vec<u32> = (0..views).filter(|&v| v != centre).collect();
         let r = Rotation {
             views,
-            centre: views / 2,
-            period: views.div_ceil(k.clamp(1, views.max(1))),
+            centre,
+            period: (others.len() as u32).div_ceil(k.clamp(1, views.max(1))),
             phase: 0,
             epoch: 0,
             kept: vec![None; views as usize],
@@ -107,6 +111,7 @@ impl Rotation {
             moving: false,
             converged: false,
             spaced,
+            others,
         };
         let fits = (0..r.period).all(|p| r.phase_set(p).len() < views as usize)
             && r.with_centre(r.spaced.clone()).len() < views as usize;
@@ -124,8 +129,10 @@ impl Rotation {
         set
     }
 
+    /// Phase `p`: every `period`-th view but the centre, from the `p`-th on, and the centre.
     fn phase_set(&self, p: u32) -> Vec<u32> {
-        self.with_centre((p..self.views).step_by(self.period as usize).collect())
+        let set = self.others.iter().copied().skip(p as usize).step_by(self.period as usize);
+        self.with_centre(set.collect())
     }
 
     /// The views the next frame renders.
@@ -334,12 +341,12 @@ mod tests {
         let mut r = Rotation::new(Mode::Hybrid(3), 9).unwrap();
         assert_eq!(r.period(), 3);
         let sets: Vec<Vec<u32>> = (0..3).map(|_| r.next_rendered()).collect();
-        assert_eq!(sets, vec![vec![0, 3, 4, 6], vec![1, 4, 7], vec![2, 4, 5, 8]]);
-        assert_eq!(r.next_rendered(), vec![0, 3, 4, 6], "and round again");
+        assert_eq!(sets, vec![vec![0, 3, 4, 7], vec![1, 4, 5, 8], vec![2, 4, 6]]);
+        assert_eq!(r.next_rendered(), vec![0, 3, 4, 7], "and round again");
         let mut s = Rotation::new(Mode::Synth, 5).unwrap();
-        let sets: Vec<Vec<u32>> = (0..5).map(|_| s.next_rendered()).collect();
-        assert_eq!(sets[0], vec![0, 2]);
-        assert_eq!(sets[2], vec![2]);
+        assert_eq!(s.period(), 4);
+        let sets: Vec<Vec<u32>> = (0..4).map(|_| s.next_rendered()).collect();
+        assert_eq!(sets, vec![vec![0, 2], vec![1, 2], vec![2, 3], vec![2, 4]]);
         for (n, k) in [(48, 4), (45, 2), (10, 3), (7, 1)] {
             let mut r = Rotation::new(Mode::Hybrid(k), n).unwrap();
             let mut seen = vec![false; n as usize];
@@ -371,9 +378,9 @@ mod tests {
         };
         let (_, kept, done) = frame(&mut r, 1, None);
         assert!(kept.is_empty() && !done);
-        assert_eq!(r.comparable(&[1, 4, 7]), vec![4], "the centre is always comparable");
+        assert_eq!(r.comparable(&[1, 4, 5, 8]), vec![4], "the centre is always comparable");
         let (_, kept, _) = frame(&mut r, 1, None);
-        assert_eq!(kept, vec![0, 3, 6]);
+        assert_eq!(kept, vec![0, 3, 7]);
         let (rendered, kept, done) = frame(&mut r, 1, None);
         assert!(done, "exact after ⌈9/3⌉ = 3 frames");
         assert_eq!(rendered.len() + kept.len(), 9);

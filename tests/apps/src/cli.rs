@@ -63,8 +63,8 @@ pub struct Options {
     pub alpha: bool,
     /// Draw with `GL_FRAMEBUFFER_SRGB` enabled (desktop GL).
     pub srgb: bool,
-    /// `--freeze F[:G]`: frames F..G (exclusive) show frame F; later frames are shown
-    /// `G - F` frames late.
+    /// `--freeze F[:G]`: frames F..G (exclusive) show frame F; frame G shows F + 1, and so
+    /// on.
     pub freeze: Option<(u64, u64)>,
 }
 
@@ -94,8 +94,8 @@ fn parse_freeze(v: &str) -> Result<(u64, u64), String> {
     let (f, g) = v.split_once(':').unwrap_or((v, ""));
     let f: u64 = parse_num("--freeze", f)?;
     let g = if g.is_empty() { u64::MAX } else { parse_num("--freeze", g)? };
-    if g < f {
-        return Err(format!("--freeze {v}: expected F or F:G with G >= F"));
+    if g <= f {
+        return Err(format!("--freeze {v}: expected F or F:G with G > F"));
     }
     Ok((f, g))
 }
@@ -105,7 +105,7 @@ impl Options {
     pub fn shown(&self, frame: u64) -> u64 {
         match self.freeze {
             Some((f, g)) if frame >= f && frame < g => f,
-            Some((f, g)) if frame >= g => frame - (g - f),
+            Some((f, g)) if frame >= g => frame + f + 1 - g,
             _ => frame,
         }
     }
