@@ -191,7 +191,11 @@ mod tests {
         assert!(e.contains("--reuse needs --mode synth or hybrid:K"), "{e}");
         let synth = |k: &str| (k == "HOLOINJECT_MODE").then(|| "synth".to_string());
         assert!(check_combinations(&l, &synth, None).is_ok());
-        assert!(parse_run(&args(&["--reuse=1", "prog"])).unwrap_err().contains("takes no value"));
+        assert!(
+            parse_run(&args(&["--reuse=1", "prog"]))
+                .unwrap_err()
+                .contains("takes no value")
+        );
     }
 
     #[test]

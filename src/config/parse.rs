@@ -205,7 +205,10 @@ mod tests {
         assert!(mode("hybrid:x").unwrap_err().contains("expected"));
         assert!(mode("fast").is_err());
         assert!(synth_threshold("0").is_err());
-        assert_eq!((switch("1"), switch("true"), switch("off")), (Ok(true), Ok(true), Ok(false)));
+        assert_eq!(
+            (switch("1"), switch("true"), switch("off")),
+            (Ok(true), Ok(true), Ok(false))
+        );
         assert!(switch("maybe").is_err());
         assert!(reuse_with(true, Mode::Hybrid(3)).is_ok() && reuse_with(true, Mode::Synth).is_ok());
         assert!(reuse_with(true, Mode::Exact).unwrap_err().contains("--reuse needs"));

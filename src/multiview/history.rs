@@ -51,7 +51,9 @@ fn depth_of(gl: &Gl, quilt: &QuiltTarget) -> (GLenum, GLenum, GLbitfield) {
     }
     let format = format as GLenum;
     match format {
-        DEPTH24_STENCIL8 | DEPTH32F_STENCIL8 => (format, DEPTH_STENCIL_ATTACHMENT, DEPTH_BUFFER_BIT | STENCIL_BUFFER_BIT),
+        DEPTH24_STENCIL8 | DEPTH32F_STENCIL8 => {
+            (format, DEPTH_STENCIL_ATTACHMENT, DEPTH_BUFFER_BIT | STENCIL_BUFFER_BIT)
+        }
         _ => (format, DEPTH_ATTACHMENT, DEPTH_BUFFER_BIT),
     }
 }
@@ -253,7 +255,11 @@ impl History {
 /// Where view `v`'s tile starts in texel addresses (rows flipped when stored top-down).
 fn storage_origin(l: QuiltLayout, v: u32) -> (i32, i32) {
     let [x, y, _, h] = l.tile_rect(v);
-    if l.flipped { (x, l.height() as i32 - y - h) } else { (x, y) }
+    if l.flipped {
+        (x, l.height() as i32 - y - h)
+    } else {
+        (x, y)
+    }
 }
 
 fn uniform(gl: &Gl, program: u32, name: &std::ffi::CStr) -> i32 {

@@ -44,13 +44,23 @@ pub struct Signature(Vec<u64>);
 impl Signature {
     pub fn of(mv: &Multiview) -> Signature {
         let c = &mv.camera;
-        let mut v: Vec<u64> = c.camera_projection.iter().flatten().map(|x| u64::from(x.to_bits())).collect();
+        let mut v: Vec<u64> = c
+            .camera_projection
+            .iter()
+            .flatten()
+            .map(|x| u64::from(x.to_bits()))
+            .collect();
         v.push(u64::from(c.camera_projection.is_some()));
         if let Some(d) = c.last_depth {
             v.extend([d.a.to_bits(), d.b.to_bits()]);
         }
         let r = c.rig;
-        v.extend([r.depthiness.to_bits(), r.convergence.to_bits(), r.focus.to_bits(), u64::from(r.views)]);
+        v.extend([
+            r.depthiness.to_bits(),
+            r.convergence.to_bits(),
+            r.focus.to_bits(),
+            u64::from(r.views),
+        ]);
         if let Some(l) = mv.layout() {
             v.extend([l.cols, l.rows, l.tile_w, l.tile_h].map(u64::from));
         }
@@ -131,7 +141,12 @@ impl Rotation {
 
     /// Phase `p`: every `period`-th view but the centre, from the `p`-th on, and the centre.
     fn phase_set(&self, p: u32) -> Vec<u32> {
-        let set = self.others.iter().copied().skip(p as usize).step_by(self.period as usize);
+        let set = self
+            .others
+            .iter()
+            .copied()
+            .skip(p as usize)
+            .step_by(self.period as usize);
         self.with_centre(set.collect())
     }
 
@@ -195,7 +210,9 @@ impl Rotation {
 
     /// Views not in `rendered` shown from the history this frame.
     pub fn from_history(&self, rendered: &[u32]) -> Vec<u32> {
-        (0..self.views).filter(|v| !rendered.contains(v) && self.valid(*v)).collect()
+        (0..self.views)
+            .filter(|v| !rendered.contains(v) && self.valid(*v))
+            .collect()
     }
 
     /// True the first time in an epoch that every view is exact (rendered or kept).
@@ -240,7 +257,9 @@ impl Reuse {
 
 /// At the end of a frame: the views the next one, `frame`, renders.
 pub fn plan_next_frame(mv: &mut Multiview, frame: u64) {
-    let Some(r) = mv.reuse.as_mut().filter(|r| !r.off) else { return };
+    let Some(r) = mv.reuse.as_mut().filter(|r| !r.off) else {
+        return;
+    };
     r.frame = frame;
     if !mv.plan.fast() {
         // Synthesis failed and the plan went exact: so does reuse.
@@ -265,7 +284,10 @@ pub fn at_warp(gl: &Gl, mv: &mut Multiview) -> Vec<u32> {
         log::once(
             &MULTISAMPLED,
             Level::Warn,
-            format_args!("--reuse needs a single-sampled quilt (this one has {} samples): off", quilt.samples),
+            format_args!(
+                "--reuse needs a single-sampled quilt (this one has {} samples): off",
+                quilt.samples
+            ),
         );
         r.off = true;
         return vec![];
@@ -285,7 +307,9 @@ pub fn at_warp(gl: &Gl, mv: &mut Multiview) -> Vec<u32> {
         r.rotation.forget();
         announce(&r.rotation, quilt.layout.views());
     }
-    let Some(history) = r.history.as_ref() else { return vec![] };
+    let Some(history) = r.history.as_ref() else {
+        return vec![];
+    };
     let rot = &mut r.rotation;
     let change = if rot.check_signature(signature) {
         Some(Change::Signature)
@@ -299,7 +323,9 @@ pub fn at_warp(gl: &Gl, mv: &mut Multiview) -> Vec<u32> {
         }
     };
     if change.is_some() && !rot.moving {
-        log::debug(format_args!("reuse: frame {frame}: the scene changed ({change:?}): kept views dropped"));
+        log::debug(format_args!(
+            "reuse: frame {frame}: the scene changed ({change:?}): kept views dropped"
+        ));
     }
     rot.judge(change);
     history.store(gl, info, quilt, &rendered);
@@ -363,7 +389,10 @@ mod tests {
     fn no_rotation_where_it_cannot_help() {
         assert!(Rotation::new(Mode::Exact, 9).is_none());
         assert!(Rotation::new(Mode::Hybrid(9), 9).is_none());
-        assert!(Rotation::new(Mode::Hybrid(2), 3).is_none(), "{{0,2}} and the centre are all views");
+        assert!(
+            Rotation::new(Mode::Hybrid(2), 3).is_none(),
+            "{{0,2}} and the centre are all views"
+        );
     }
 
     #[test]
@@ -374,7 +403,11 @@ mod tests {
             r.check_signature(sig(s));
             r.judge(change);
             r.kept(&rendered);
-            (rendered.clone(), r.from_history(&rendered), r.newly_converged(&rendered))
+            (
+                rendered.clone(),
+                r.from_history(&rendered),
+                r.newly_converged(&rendered),
+            )
         };
         let (_, kept, done) = frame(&mut r, 1, None);
         assert!(kept.is_empty() && !done);

@@ -71,13 +71,36 @@ fn reuse_makes_a_still_scene_exact_within_n_over_k_frames() {
     require_display();
     let dir = temp_dir("reuse_still");
     let still = ["--freeze", "0"];
-    for (app_name, mode, cols, period) in [("cubes", "hybrid:3", 9, 3), ("cubes", "synth", 5, 4), ("bloom", "hybrid:2", 7, 3)] {
-        let exact = run_app(&dir, &format!("{app_name}-exact"), app_name, cols, &["--mode", "exact"], &still, period);
+    for (app_name, mode, cols, period) in [
+        ("cubes", "hybrid:3", 9, 3),
+        ("cubes", "synth", 5, 4),
+        ("bloom", "hybrid:2", 7, 3),
+    ] {
+        let exact = run_app(
+            &dir,
+            &format!("{app_name}-exact"),
+            app_name,
+            cols,
+            &["--mode", "exact"],
+            &still,
+            period,
+        );
         let name = format!("{app_name}-{}", mode.replace(':', "-"));
-        let reuse = run_app(&dir, &name, app_name, cols, &["--mode", mode, "--reuse"], &still, period);
+        let reuse = run_app(
+            &dir,
+            &name,
+            app_name,
+            cols,
+            &["--mode", mode, "--reuse"],
+            &still,
+            period,
+        );
         let psnr = tile_psnr(&exact.quilt(period), &reuse.quilt(period), cols, 1);
         eprintln!("{app_name} {mode} --reuse, frame {period} against exact: {psnr:.2?}");
-        assert!(psnr.iter().all(|&p| p >= 60.0), "{app_name} {mode}: frame {period}: {psnr:.2?}");
+        assert!(
+            psnr.iter().all(|&p| p >= 60.0),
+            "{app_name} {mode}: frame {period}: {psnr:.2?}"
+        );
         assert!(
             reuse.log.contains(&format!("reuse: frame {period}: every view exact")),
             "{}",
@@ -110,8 +133,14 @@ fn reuse_of_a_moving_scene_is_no_worse_than_without() {
     let reuse = run_app(&dir, "reuse", "cubes", 9, &reuse, &[], 8);
     for f in 3..=8 {
         let (p, r) = (plain.measured(f), reuse.measured(f));
-        eprintln!("frame {f}: hybrid:2 mean {:.2} worst {:.2}; --reuse mean {:.2} worst {:.2}", p.0, p.1, r.0, r.1);
-        assert!(r.0 >= p.0 - 0.5 && r.1 >= p.1 - 0.5, "frame {f}: plain {p:?}, --reuse {r:?}");
+        eprintln!(
+            "frame {f}: hybrid:2 mean {:.2} worst {:.2}; --reuse mean {:.2} worst {:.2}",
+            p.0, p.1, r.0, r.1
+        );
+        assert!(
+            r.0 >= p.0 - 0.5 && r.1 >= p.1 - 0.5,
+            "frame {f}: plain {p:?}, --reuse {r:?}"
+        );
         assert!(r.0 < 60.0, "frame {f}: a moving scene cannot be exact: {r:?}");
     }
 }
@@ -126,7 +155,15 @@ fn reuse_drops_kept_views_the_frame_the_scene_moves() {
     let dir = temp_dir("reuse_starts_moving");
     let moving_at_5 = ["--freeze", "0:4"];
     let exact = run_app(&dir, "exact", "cubes", 9, &["--mode", "exact"], &moving_at_5, 5);
-    let reuse = run_app(&dir, "reuse", "cubes", 9, &["--mode", "hybrid:3", "--reuse"], &moving_at_5, 5);
+    let reuse = run_app(
+        &dir,
+        "reuse",
+        "cubes",
+        9,
+        &["--mode", "hybrid:3", "--reuse"],
+        &moving_at_5,
+        5,
+    );
     let still = tile_psnr(&exact.quilt(4), &reuse.quilt(4), 9, 1);
     assert!(still.iter().all(|p| p.is_infinite()), "frame 4 (still): {still:.2?}");
     let (e4, r5) = (exact.quilt(4), reuse.quilt(5));
@@ -147,13 +184,28 @@ fn reuse_keeps_the_hud_in_place_in_every_view() {
     let dir = temp_dir("reuse_hud");
     let still = ["--freeze", "0"];
     let exact = run_app(&dir, "exact", "legacy", 5, &["--mode", "exact"], &still, 2);
-    let reuse = run_app(&dir, "reuse", "legacy", 5, &["--mode", "hybrid:2", "--reuse"], &still, 2);
+    let reuse = run_app(
+        &dir,
+        "reuse",
+        "legacy",
+        5,
+        &["--mode", "hybrid:2", "--reuse"],
+        &still,
+        2,
+    );
     for f in 1..=2 {
         let (e, r) = (exact.quilt(f), reuse.quilt(f));
         let want = hud(&tile(&e, 5, 1, 2));
-        assert!(want.chunks(3).all(|p| p == [255, 255, 255]), "the HUD square is not where expected");
+        assert!(
+            want.chunks(3).all(|p| p == [255, 255, 255]),
+            "the HUD square is not where expected"
+        );
         for i in 0..5 {
-            assert_eq!(hud(&tile(&r, 5, 1, i)), want, "frame {f}, view {i}: the HUD moved or changed");
+            assert_eq!(
+                hud(&tile(&r, 5, 1, i)),
+                want,
+                "frame {f}, view {i}: the HUD moved or changed"
+            );
         }
     }
     let psnr = tile_psnr(&exact.quilt(2), &reuse.quilt(2), 5, 1);

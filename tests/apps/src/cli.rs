@@ -93,7 +93,11 @@ fn parse_pair(flag: &str, v: &str) -> Result<(u32, u32), String> {
 fn parse_freeze(v: &str) -> Result<(u64, u64), String> {
     let (f, g) = v.split_once(':').unwrap_or((v, ""));
     let f: u64 = parse_num("--freeze", f)?;
-    let g = if g.is_empty() { u64::MAX } else { parse_num("--freeze", g)? };
+    let g = if g.is_empty() {
+        u64::MAX
+    } else {
+        parse_num("--freeze", g)?
+    };
     if g <= f {
         return Err(format!("--freeze {v}: expected F or F:G with G > F"));
     }
