@@ -398,7 +398,7 @@ mod tests {
     #[test]
     fn a_still_scene_converges_and_a_change_drops_everything() {
         let mut r = Rotation::new(Mode::Hybrid(3), 9).unwrap();
-        let mut frame = |r: &mut Rotation, s: u64, change: Option<Change>| {
+        let frame = |r: &mut Rotation, s: u64, change: Option<Change>| {
             let rendered = r.next_rendered();
             r.check_signature(sig(s));
             r.judge(change);
