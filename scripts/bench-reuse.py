@@ -3,8 +3,9 @@
 and ms/frame after that against `exact` and plain `hybrid:K`.
 
 Scenes: `cubes` and `bloom` (sample apps, `--freeze 0`: every frame draws frame 0), and a real
-program: an apitrace recording of `glmark2 -b shading:shading=phong` (made once, kept in
---cache) replayed by `glretrace --loop`, which draws the trace's last frame again and again.
+program: an apitrace recording of `glmark2 -b shading:shading=phong` cut after its 15th frame
+(made once, kept in --cache) replayed by `glretrace --loop`, which draws that frame again and
+again.
 Each run is one program under the layer on an X server (DISPLAY, or `xvfb-run` around this
 script) with `--output quilt --log info --exit-after FRAMES`; the layer reports the median
 frame time of frames 11..FRAMES and, with `--reuse`, the frame on which every view became
@@ -27,11 +28,20 @@ RIG = ["--depthiness", "0.12", "--convergence", "9", "--focus", "0"]
 
 
 def trace(cache):
-    path = os.path.join(cache, "glmark2-phong.trace")
-    if not os.path.exists(path):
-        os.makedirs(cache, exist_ok=True)
-        subprocess.run(["apitrace", "trace", "-o", path, "glmark2", "-s", "400x300", "-b",
+    """glmark2's phong scene recorded, cut after its 15th frame: `glretrace --loop` replays the
+    last frame of a trace, which for a whole recording is the program's teardown."""
+    path = os.path.join(cache, "glmark2-phong-frame15.trace")
+    if os.path.exists(path):
+        return path
+    full = os.path.join(cache, "glmark2-phong.trace")
+    os.makedirs(cache, exist_ok=True)
+    if not os.path.exists(full):
+        subprocess.run(["apitrace", "trace", "-o", full, "glmark2", "-s", "400x300", "-b",
                         "shading:shading=phong:nframes=20"], check=True, capture_output=True)
+    dump = subprocess.run(["apitrace", "dump", full], check=True, capture_output=True, text=True).stdout
+    swaps = [l.split()[0] for l in dump.splitlines() if "glXSwapBuffers(" in l]
+    subprocess.run(["apitrace", "trim", f"--calls=0-{swaps[14]}", "-o", path, full],
+                   check=True, capture_output=True)
     return path
 
 
