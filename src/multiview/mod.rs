@@ -31,6 +31,7 @@ pub mod plan;
 pub mod raster;
 pub mod replay;
 pub mod reuse;
+pub mod rotation;
 pub mod sampling;
 pub mod scene;
 pub mod screen_space;
