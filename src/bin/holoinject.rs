@@ -43,6 +43,7 @@ fn launch(mut plan: Launch) -> Result<(), String> {
     absolutise_dump_dir(&mut plan)?;
     absolutise_preset_path(&mut plan)?;
     let preset = chosen_preset(&plan, &program);
+    cli::check_combinations(&plan, &|k| std::env::var(k).ok(), preset.as_ref().map(|c| &c.preset))?;
     let preload = cli::ld_preload_with(std::env::var_os("LD_PRELOAD").as_deref(), &lib.to_string_lossy());
     if plan.dry_run {
         if let Some(c) = &preset {

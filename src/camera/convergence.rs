@@ -27,9 +27,22 @@ pub fn estimate(depths: &[f32], range: DepthRange) -> Option<f64> {
     (n > 0 && sum_inv > 0.0).then(|| n as f64 / sum_inv)
 }
 
-/// Exponential smoothing; the first estimate is taken as is.
+/// Relative distance from the estimate within which the running value holds still.
+const HOLD: f64 = 1e-3;
+
+/// Exponential smoothing; the first estimate is taken as is. Within `HOLD` of the estimate
+/// the value stops moving: a still scene would otherwise change the rig (and so every view
+/// but the centre) by ever smaller amounts for some 160 frames, and `--reuse` keeps views
+/// only while the rig is unchanged. A 0.1% change of convergence moves a pixel by a small
+/// fraction of a pixel.
 pub fn smooth(previous: Option<f64>, new: f64) -> f64 {
-    previous.map_or(new, |p| p + SMOOTHING * (new - p))
+    previous.map_or(new, |p| {
+        if (new - p).abs() <= HOLD * p.abs() {
+            p
+        } else {
+            p + SMOOTHING * (new - p)
+        }
+    })
 }
 
 #[cfg(test)]
@@ -49,5 +62,6 @@ mod tests {
         assert!((c - 3.0).abs() < 1e-3, "{c}");
         assert_eq!(estimate(&[1.0, 1.0], range), None);
         assert_eq!(smooth(Some(2.0), 4.0), 2.4);
+        assert_eq!(smooth(Some(2.0), 2.001), 2.0, "holds within 0.1%");
     }
 }

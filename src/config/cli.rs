@@ -62,6 +62,9 @@ pub fn parse_run(args: &[OsString]) -> Result<Launch, String> {
                 return Err(format!("--{name} takes no value"));
             }
             launch.dry_run |= name == "dry-run";
+            if !opt.launcher_only {
+                launch.env.push((opt.env_name(), "1".into()));
+            }
             continue;
         }
         let value = value_for(opt, inline, &mut it)?;
@@ -72,6 +75,26 @@ pub fn parse_run(args: &[OsString]) -> Result<Launch, String> {
     }
     launch.args = it.cloned().collect();
     Ok(launch)
+}
+
+/// Options that only make sense together, checked on their effective values (command line,
+/// else `env`, else the preset), so the program is not started with one silently ignored.
+pub fn check_combinations(
+    launch: &Launch,
+    env: &dyn Fn(&str) -> Option<String>,
+    preset: Option<&super::preset::Preset>,
+) -> Result<(), String> {
+    let value = |long: &str| {
+        let var = options::find(long).map(|o| o.env_name()).unwrap_or_default();
+        launch
+            .get(long)
+            .map(str::to_string)
+            .or_else(|| env(&var))
+            .or_else(|| preset.and_then(|p| p.get(long)).map(str::to_string))
+    };
+    let reuse = value("reuse").is_some_and(|v| super::parse::switch(&v).unwrap_or(false));
+    let mode = value("mode").and_then(|m| super::parse::mode(&m).ok());
+    super::parse::reuse_with(reuse, mode.unwrap_or(super::Mode::Exact))
 }
 
 /// `LD_PRELOAD` with `lib` appended once, keeping what is there (entries split on ':' or ' ').
@@ -155,6 +178,24 @@ mod tests {
         assert!(e.contains("needs a value"), "{e}");
         let e = parse_run(&args(&["--mode", "auto", "prog"])).unwrap_err();
         assert!(e.contains("not available"), "{e}");
+    }
+
+    #[test]
+    fn reuse_is_a_switch_that_needs_a_fast_mode() {
+        let none = |_: &str| None;
+        let l = parse_run(&args(&["--reuse", "--mode", "hybrid:3", "prog"])).unwrap();
+        assert_eq!(l.get("reuse"), Some("1"));
+        assert!(check_combinations(&l, &none, None).is_ok());
+        let l = parse_run(&args(&["--reuse", "prog"])).unwrap();
+        let e = check_combinations(&l, &none, None).unwrap_err();
+        assert!(e.contains("--reuse needs --mode synth or hybrid:K"), "{e}");
+        let synth = |k: &str| (k == "HOLOINJECT_MODE").then(|| "synth".to_string());
+        assert!(check_combinations(&l, &synth, None).is_ok());
+        assert!(
+            parse_run(&args(&["--reuse=1", "prog"]))
+                .unwrap_err()
+                .contains("takes no value")
+        );
     }
 
     #[test]

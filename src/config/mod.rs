@@ -145,6 +145,8 @@ pub struct ViewSettings {
     pub convergence: Convergence,
     pub focus: f64,
     pub mode: Mode,
+    /// `--reuse`: views rendered in turn, kept while the scene is unchanged (fast modes only).
+    pub reuse: bool,
     /// Disparity range (tile pixels, outermost view) a synthesis grid cell may hold.
     pub synth_threshold: f64,
     pub synth_warp: SynthWarp,
@@ -206,6 +208,7 @@ impl Default for ViewSettings {
             convergence: Convergence::Auto,
             focus: 0.0,
             mode: Mode::Exact,
+            reuse: false,
             synth_threshold: 1.0,
             synth_warp: SynthWarp::Rows,
             measure_error: None,
@@ -293,12 +296,17 @@ impl Settings {
                 "convergence" => s.view.convergence = parse::convergence(&value).unwrap_or(Convergence::Auto),
                 "focus" => s.view.focus = parse::finite(&value).unwrap_or(0.0),
                 "mode" => s.view.mode = parse::mode(&value).unwrap_or(Mode::Exact),
+                "reuse" => s.view.reuse = parse::switch(&value).unwrap_or(false),
                 "synth-threshold" => s.view.synth_threshold = parse::synth_threshold(&value).unwrap_or(1.0),
                 "synth-warp" => s.view.synth_warp = parse::synth_warp(&value).unwrap_or(SynthWarp::Rows),
                 "measure-error" => s.view.measure_error = parse::frames(&value).ok(),
                 "frame-budget" => budget = parse::frame_budget(&value).ok().map(|b| (b, var)),
                 _ => {}
             }
+        }
+        if let Err(e) = parse::reuse_with(s.view.reuse, s.view.mode) {
+            report(format!("HOLOINJECT_REUSE: {e}; ignored"));
+            s.view.reuse = false;
         }
         s.view.resolve(quilt, tile, output);
         s.view.apply_budget(budget, report);
@@ -390,6 +398,20 @@ mod tests {
         assert_eq!(s.view.quilt, (3, 3));
         assert_eq!(s.view.convergence, Convergence::Fixed(40.0));
         assert_eq!(s.view.focus, 0.02);
+    }
+
+    #[test]
+    fn reuse_needs_a_fast_mode() {
+        let (s, errors) = settings_of(&[("HOLOINJECT_REUSE", "1"), ("HOLOINJECT_MODE", "hybrid:2")]);
+        assert!(s.view.reuse && errors.is_empty(), "{errors:?}");
+        let (s, errors) = settings_of(&[("HOLOINJECT_REUSE", "1")]);
+        assert!(!s.view.reuse);
+        assert_eq!(errors.len(), 1);
+        assert!(errors[0].starts_with("HOLOINJECT_REUSE: --reuse needs"), "{errors:?}");
+        let (p, _) = preset::parse("mode = \"synth\"\nreuse = true\n", "t.toml").unwrap();
+        let mut errors = vec![];
+        let s = Settings::from_sources(|_| None, Some(&p), &mut |e| errors.push(e));
+        assert!(s.view.reuse && errors.is_empty(), "{errors:?}");
     }
 
     #[test]

@@ -61,6 +61,25 @@ pub fn frame_budget(v: &str) -> Result<f64, String> {
     })
 }
 
+/// A switch's value: `1|true|on|yes` or `0|false|off|no` (the launcher sets `1`; a preset may
+/// say `true`).
+pub fn switch(v: &str) -> Result<bool, String> {
+    match v.trim().to_ascii_lowercase().as_str() {
+        "1" | "true" | "on" | "yes" => Ok(true),
+        "0" | "false" | "off" | "no" => Ok(false),
+        _ => Err(format!("`{v}`: expected 1|0|true|false")),
+    }
+}
+
+/// `--reuse` is only meaningful where views are synthesised: `Err` is the one line saying so.
+pub fn reuse_with(reuse: bool, mode: Mode) -> Result<(), String> {
+    match mode {
+        Mode::Synth | Mode::SynthPixel | Mode::Hybrid(_) | Mode::HybridPixel(_) => Ok(()),
+        _ if !reuse => Ok(()),
+        _ => Err("--reuse needs --mode synth or hybrid:K (it reuses views that would otherwise be synthesised; auto chooses its own)".into()),
+    }
+}
+
 /// `--synth-threshold`: pixels of disparity range a grid cell may hold before it is split.
 pub fn synth_threshold(v: &str) -> Result<f64, String> {
     finite(v).and_then(|x| {
@@ -240,6 +259,14 @@ mod tests {
         for bad in ["0", "2", "foo", "-0.5", "NaN", "inf", ""] {
             assert!(fbo_scale(bad).is_err(), "{bad}");
         }
+        assert_eq!(
+            (switch("1"), switch("true"), switch("off")),
+            (Ok(true), Ok(true), Ok(false))
+        );
+        assert!(switch("maybe").is_err());
+        assert!(reuse_with(true, Mode::Hybrid(3)).is_ok() && reuse_with(true, Mode::Synth).is_ok());
+        assert!(reuse_with(true, Mode::Exact).unwrap_err().contains("--reuse needs"));
+        assert!(reuse_with(false, Mode::Exact).is_ok());
         assert_eq!(synth_threshold("2"), Ok(2.0));
         assert_eq!(synth_warp("grid"), Ok(super::SynthWarp::Grid));
         assert!(synth_warp("quads").is_err());

@@ -120,7 +120,7 @@ impl Controller {
         let distance = (1..=n)
             .map(|k| {
                 let mut plan = ViewPlan::new(Mode::Auto, n);
-                plan.set_rendered(k);
+                plan.set_spaced(k);
                 (0..n).map(|i| (u(i) - u(plan.nearest(i))).abs()).fold(0.0, f64::max)
             })
             .collect();
@@ -393,7 +393,7 @@ pub fn end_frame(mv: &mut Multiview, frame: u64) {
         auto.controller.budget_ms(),
         change.why
     ));
-    mv.plan.set_rendered(change.to);
+    mv.plan.set_spaced(change.to);
 }
 
 /// Every `STATUS_FRAMES` plain frames at K = `k`: their median time against the budget.

@@ -21,6 +21,7 @@ pub mod auto;
 pub mod convergence;
 pub mod downscale;
 pub mod framebuffer;
+pub mod history;
 pub mod immediate;
 pub mod layered;
 pub mod layers;
@@ -31,6 +32,8 @@ pub mod measure;
 pub mod plan;
 pub mod raster;
 pub mod replay;
+pub mod reuse;
+pub mod rotation;
 pub mod sampling;
 pub mod scale;
 pub mod scene;
@@ -110,6 +113,8 @@ pub struct Multiview {
     pub measure: Option<measure::ErrorMeasure>,
     /// `--mode auto`: the choice of K.
     pub auto: Option<auto::Auto>,
+    /// `--reuse`: the rotation of rendered views and the history quilt.
+    pub reuse: Option<reuse::Reuse>,
 }
 
 impl Multiview {
@@ -121,6 +126,11 @@ impl Multiview {
         let plan = plan::ViewPlan::new(mode, layout.views());
         let measure = (plan.fast() && settings.measure_error.is_some()).then(Default::default);
         let auto = auto::Auto::new(mode, &settings, layout.views());
+        let mut plan = plan;
+        let mut reuse = reuse::Reuse::new(&settings, mode, layout.views());
+        if let Some(r) = reuse.as_mut() {
+            plan.set_rendered(r.rotation.next_rendered());
+        }
         Multiview {
             info,
             settings,
@@ -145,6 +155,7 @@ impl Multiview {
             synth: Default::default(),
             measure,
             auto,
+            reuse,
         }
     }
 
@@ -187,6 +198,12 @@ impl Multiview {
         if let Some(m) = &self.measure {
             o.textures.push(m.texture());
         }
+        if let Some(h) = self.reuse.as_ref().and_then(|r| r.history.as_ref()) {
+            let (textures, renderbuffers, programs) = h.shared_objects();
+            o.textures.extend(textures);
+            o.renderbuffers.extend(renderbuffers);
+            o.programs.extend(programs);
+        }
         o.lists.push(self.immediate_list);
         o.without_zeros()
     }
@@ -196,9 +213,10 @@ impl Multiview {
     pub fn context_objects(&self) -> ContextObjects {
         let (copy_fbos, copy_vaos) = self.scene.context_objects();
         let views: usize = self.shadows.values().map(|s| s.views.len()).sum();
+        let history = self.reuse.as_ref().is_some_and(|r| r.history.is_some());
         ContextObjects {
-            framebuffers: usize::from(self.target.is_some()) + views + copy_fbos,
-            vertex_arrays: copy_vaos,
+            framebuffers: usize::from(self.target.is_some()) + views + copy_fbos + 2 * usize::from(history),
+            vertex_arrays: copy_vaos + usize::from(history),
         }
     }
 

@@ -58,13 +58,20 @@ impl ViewPlan {
 
     /// From the next `new_frame` on, K evenly spaced views are rendered (as `hybrid:K`;
     /// K = 1: the centre, K ≥ N: every view).
-    pub fn set_rendered(&mut self, k: u32) {
-        let n = self.views();
-        self.rendered = spaced(k, n);
-        self.mask = vec![false; n as usize];
-        for &r in &self.rendered {
-            self.mask[r as usize] = true;
+    pub fn set_spaced(&mut self, k: u32) {
+        self.set_rendered(spaced(k, self.views()));
+    }
+
+    /// Renders `rendered` (ascending) from the next frame on (`--reuse` rotates the set);
+    /// `new_frame` then decides the rest.
+    pub fn set_rendered(&mut self, rendered: Vec<u32>) {
+        self.mask.iter_mut().for_each(|m| *m = false);
+        for &r in &rendered {
+            if let Some(m) = self.mask.get_mut(r as usize) {
+                *m = true;
+            }
         }
+        self.rendered = rendered;
     }
 
     pub fn views(&self) -> u32 {

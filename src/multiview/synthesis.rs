@@ -61,6 +61,7 @@ pub fn end_frame(gl: &Gl, mv: &mut Multiview, frame: u64) {
             worst.0
         ));
     }
+    super::reuse::plan_next_frame(mv, frame + 1);
     let measured = mv
         .settings
         .measure_error
@@ -78,7 +79,8 @@ pub fn warp(gl: &Gl, mv: &mut Multiview) {
     {
         m.keep_reference(gl, mv.info, t);
     }
-    if let Err(e) = try_warp(gl, mv) {
+    let kept = super::reuse::at_warp(gl, mv);
+    if let Err(e) = try_warp(gl, mv, &kept) {
         log::once(
             &FAILED,
             Level::Warn,
@@ -89,7 +91,8 @@ pub fn warp(gl: &Gl, mv: &mut Multiview) {
     }
 }
 
-fn try_warp(gl: &Gl, mv: &mut Multiview) -> Result<(), String> {
+/// `kept`: views already filled (from the `--reuse` history).
+fn try_warp(gl: &Gl, mv: &mut Multiview, kept: &[u32]) -> Result<(), String> {
     let (Some(layout), Some(quilt)) = (mv.layout(), mv.quilt_fbo()) else {
         return Ok(());
     };
@@ -120,7 +123,7 @@ fn try_warp(gl: &Gl, mv: &mut Multiview) -> Result<(), String> {
         .collect();
     let index = |v: u32| mv.plan.rendered.iter().position(|&r| r == v).unwrap_or(0);
     let targets: Vec<Target> = (0..layout.views())
-        .filter(|&i| !mv.plan.rendered.contains(&i))
+        .filter(|&i| !mv.plan.rendered.contains(&i) && !kept.contains(&i))
         .map(|i| {
             let (l, r) = mv.plan.neighbours(i);
             let near = if i.abs_diff(l) <= i.abs_diff(r) { (l, r) } else { (r, l) };

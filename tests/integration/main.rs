@@ -20,6 +20,7 @@ mod layer_library;
 mod output_modes;
 mod real_programs;
 mod reattachment;
+mod reuse;
 mod sample_apps;
 mod synthesis;
 mod synthesis_pixel;

@@ -63,6 +63,9 @@ pub struct Options {
     pub alpha: bool,
     /// Draw with `GL_FRAMEBUFFER_SRGB` enabled (desktop GL).
     pub srgb: bool,
+    /// `--freeze F[:G]`: frames F..G (exclusive) show frame F; frame G shows F + 1, and so
+    /// on.
+    pub freeze: Option<(u64, u64)>,
 }
 
 impl Options {
@@ -85,6 +88,31 @@ fn parse_pair(flag: &str, v: &str) -> Result<(u32, u32), String> {
         return Err(bad());
     }
     Ok((a, b))
+}
+
+fn parse_freeze(v: &str) -> Result<(u64, u64), String> {
+    let (f, g) = v.split_once(':').unwrap_or((v, ""));
+    let f: u64 = parse_num("--freeze", f)?;
+    let g = if g.is_empty() {
+        u64::MAX
+    } else {
+        parse_num("--freeze", g)?
+    };
+    if g <= f {
+        return Err(format!("--freeze {v}: expected F or F:G with G > F"));
+    }
+    Ok((f, g))
+}
+
+impl Options {
+    /// The scene frame drawn as frame `frame` (`--freeze`).
+    pub fn shown(&self, frame: u64) -> u64 {
+        match self.freeze {
+            Some((f, g)) if frame >= f && frame < g => f,
+            Some((f, g)) if frame >= g => frame + f + 1 - g,
+            _ => frame,
+        }
+    }
 }
 
 fn parse_num<T: std::str::FromStr>(flag: &str, v: &str) -> Result<T, String> {
@@ -113,7 +141,9 @@ pub fn usage(app: &AppInfo) -> String {
          --debug-output         count GL errors via KHR_debug; print `gl-debug: errors=N` at exit\n\
          --samples N            multisampled default framebuffer, N samples (glx, egl, egl-x11)\n\
          --no-alpha             default framebuffer without alpha bits (glx, egl, egl-x11)\n\
-         --srgb                 draw with GL_FRAMEBUFFER_SRGB enabled (desktop GL)\n",
+         --srgb                 draw with GL_FRAMEBUFFER_SRGB enabled (desktop GL)\n\
+         --freeze F[:G]         frames F..G (counted from 0; G omitted: every frame from F on) draw\n\
+                                frame F again, then time resumes where it stopped: a still scene\n",
         name = app.name,
         about = app.about,
         conv = app.default_convergence
@@ -154,6 +184,7 @@ pub fn parse(args: &[String], app: &AppInfo) -> Result<Option<Options>, String> 
         samples: 0,
         alpha: true,
         srgb: false,
+        freeze: None,
     };
     let mut tile = None;
     let mut it = args.iter();
@@ -186,6 +217,7 @@ pub fn parse(args: &[String], app: &AppInfo) -> Result<Option<Options>, String> 
             "--size" => o.size = parse_pair(flag, val)?,
             "--frames" => o.frames = parse_num(flag, val)?,
             "--samples" => o.samples = parse_num(flag, val)?,
+            "--freeze" => o.freeze = Some(parse_freeze(val)?),
             "--screenshot" => o.screenshot = Some(val.into()),
             "--depth-out" => o.depth_out = Some(val.into()),
             "--reference-quilt" => o.quilt = Some(parse_pair(flag, val)?),

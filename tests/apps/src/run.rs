@@ -142,9 +142,11 @@ fn run(o: &Options, profile: Profile, make: Box<MakeScene>) -> Result<(), String
     };
     while !STOP.load(Ordering::SeqCst) && last.is_none_or(|l| frame <= l) {
         let start = Instant::now();
+        // What the scene shows: time stops at `--freeze`.
+        let shown = o.shown(frame);
         match &bench {
-            Some(b) => b.frame(&gl, scene.as_mut(), frame, o, (w, h)),
-            None => scene.render(&gl, frame, &normal),
+            Some(b) => b.frame(&gl, scene.as_mut(), shown, o, (w, h)),
+            None => scene.render(&gl, shown, &normal),
         }
         let mut elapsed = start.elapsed();
         if frame == 0 {
@@ -153,7 +155,7 @@ fn run(o: &Options, profile: Profile, make: Box<MakeScene>) -> Result<(), String
         if Some(frame) == last {
             capture_default_framebuffer(&gl, o, (w, h))?;
             if o.quilt.is_some() && bench.is_none() {
-                quilt::render(&gl, scene.as_mut(), frame, o)?;
+                quilt::render(&gl, scene.as_mut(), shown, o)?;
                 check_gl_error(&gl, "after the quilt pass");
             }
         }

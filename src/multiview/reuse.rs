@@ -1,0 +1,194 @@
+//! `--reuse`: temporal reuse of exact views (DESIGN §5; Hathaway 2009, who keeps rendered
+//! points from frame to frame and adds a few new ones each frame).
+//!
+//! A fast mode renders K of N views and synthesises the rest, every frame, even when nothing
+//! moves. With `--reuse` each frame renders a *rotating* set instead — the centre view, every
+//! frame, and phase `p` of `P = ⌈(N-1)/K⌉ ≤ ⌈N/K⌉`: every P-th of the other views from the
+//! p-th on, at most K of them. Every rendered view is kept (colour, depth and stencil of its tile, before anything
+//! is drawn over the scene) in a history quilt of the quilt's own layout and formats
+//! (`history`), marked with the *epoch* it was rendered in. While the epoch lasts, a view not
+//! rendered this frame is shown from the history: exact. So a still scene is exact in every
+//! view after P frames.
+//!
+//! The epoch ends — every kept view is dropped, nothing is smeared — the moment the scene
+//! may have changed, judged at the warp point, before any kept view is shown:
+//! - the signature changed: the main camera's projection and depth model, the rig
+//!   (depthiness, convergence, focus: auto-convergence drifting changes every view but the
+//!   centre), the quilt's layout;
+//! - or a view rendered this frame differs, in any pixel, from its kept render of this
+//!   epoch. The centre view is rendered every frame precisely so that there is always one:
+//!   any change between two consecutive frames that the centre view sees is caught. The
+//!   comparison runs on the GPU (a pass that discards equal pixels, counted by an occlusion
+//!   query whose result is waited for: a kept view is never shown on a guess).
+//!
+//! After a change, the next frame renders the K evenly spaced views of plain `hybrid:K`
+//! (and the centre), so a moving scene looks as it does without `--reuse`; rotation resumes
+//! once a frame is judged unchanged. What is not done: a kept view is not reprojected by the
+//! camera's motion (a moving camera is a change), and a change seen by none of the rendered
+//! views (an object visible only in views not rendered this frame) is not caught.
+
+use super::Multiview;
+use super::rotation::{Change, Rotation, Signature};
+use crate::config::Mode;
+use crate::gl::*;
+use crate::log::{self, Level};
+use std::sync::atomic::AtomicBool;
+
+static ANNOUNCED: AtomicBool = AtomicBool::new(false);
+static MULTISAMPLED: AtomicBool = AtomicBool::new(false);
+
+/// The signature of `mv`'s frame now.
+fn signature(mv: &Multiview) -> Signature {
+    let c = &mv.camera;
+    let mut v: Vec<u64> = c
+        .camera_projection
+        .iter()
+        .flatten()
+        .map(|x| u64::from(x.to_bits()))
+        .collect();
+    v.push(u64::from(c.camera_projection.is_some()));
+    if let Some(d) = c.last_depth {
+        v.extend([d.a.to_bits(), d.b.to_bits()]);
+    }
+    let r = c.rig;
+    v.extend([
+        r.depthiness.to_bits(),
+        r.convergence.to_bits(),
+        r.focus.to_bits(),
+        u64::from(r.views),
+    ]);
+    if let Some(l) = mv.layout() {
+        v.extend([l.cols, l.rows, l.tile_w, l.tile_h].map(u64::from));
+    }
+    Signature(v)
+}
+
+/// `--reuse` of one context: the rotation and the history quilt.
+pub struct Reuse {
+    pub rotation: Rotation,
+    pub history: Option<super::history::History>,
+    /// The history cannot be made or used here; reuse is off for good.
+    pub off: bool,
+    /// The number of the frame being drawn (frames count from 1).
+    pub frame: u64,
+}
+
+impl Reuse {
+    /// For a context running in `mode` (the one it really runs in) over `views` views.
+    pub fn new(settings: &crate::config::ViewSettings, mode: Mode, views: u32) -> Option<Reuse> {
+        if !settings.reuse {
+            return None;
+        }
+        Rotation::new(mode, views).map(|rotation| Reuse {
+            rotation,
+            history: None,
+            off: false,
+            frame: 1,
+        })
+    }
+
+    pub fn delete(&self, gl: &Gl) {
+        if let Some(h) = &self.history {
+            h.delete(gl);
+        }
+    }
+}
+
+/// At the end of a frame: the views the next one, `frame`, renders.
+pub fn plan_next_frame(mv: &mut Multiview, frame: u64) {
+    let Some(r) = mv.reuse.as_mut().filter(|r| !r.off) else {
+        return;
+    };
+    r.frame = frame;
+    if !mv.plan.fast() {
+        // Synthesis failed and the plan went exact: so does reuse.
+        r.off = true;
+        return;
+    }
+    let next = r.rotation.next_rendered();
+    mv.plan.set_rendered(next);
+}
+
+/// At the warp point, before the synthesised views are made: judges whether the scene
+/// changed, keeps the rendered views, and copies the still-valid kept views into their
+/// tiles. Returns the views so filled (the synthesis leaves them alone).
+pub fn at_warp(gl: &Gl, mv: &mut Multiview) -> Vec<u32> {
+    let signature = signature(mv);
+    let (info, rendered) = (mv.info, mv.plan.rendered.clone());
+    let (Some(r), Some(quilt)) = (mv.reuse.as_mut().filter(|r| !r.off), mv.target.as_ref()) else {
+        return vec![];
+    };
+    let frame = r.frame;
+    if quilt.samples > 0 {
+        log::once(
+            &MULTISAMPLED,
+            Level::Warn,
+            format_args!(
+                "--reuse needs a single-sampled quilt (this one has {} samples): off",
+                quilt.samples
+            ),
+        );
+        r.off = true;
+        return vec![];
+    }
+    if !r.history.as_ref().is_some_and(|h| h.fits(quilt)) {
+        if let Some(old) = r.history.take() {
+            old.delete(gl);
+        }
+        match super::history::History::create(gl, info, quilt) {
+            Ok(h) => r.history = Some(h),
+            Err(e) => {
+                log::warn(format_args!("--reuse: the history quilt cannot be made ({e}): off"));
+                r.off = true;
+                return vec![];
+            }
+        }
+        r.rotation.forget();
+        announce(&r.rotation, quilt.layout.views());
+    }
+    let Some(history) = r.history.as_ref() else {
+        return vec![];
+    };
+    let rot = &mut r.rotation;
+    let change = if rot.check_signature(signature) {
+        Some(Change::Signature)
+    } else {
+        let compare = rot.comparable(&rendered);
+        match history.differing(gl, info, quilt, &compare) {
+            Some(0) => None,
+            Some(n) => Some(Change::Pixels(n)),
+            // The comparison could not run (an occlusion query of the app's is active).
+            None => Some(Change::Pixels(u64::MAX)),
+        }
+    };
+    if change.is_some() && !rot.moving() {
+        log::debug(format_args!(
+            "reuse: frame {frame}: the scene changed ({change:?}): kept views dropped"
+        ));
+    }
+    rot.judge(change);
+    history.store(gl, info, quilt, &rendered);
+    rot.kept(&rendered);
+    let filled = rot.from_history(&rendered);
+    history.restore(gl, info, quilt, &filled);
+    if rot.newly_converged(&rendered) {
+        log::info(format_args!(
+            "reuse: frame {frame}: every view exact ({} rendered, {} kept)",
+            rendered.len(),
+            filled.len()
+        ));
+    }
+    filled
+}
+
+fn announce(rot: &Rotation, views: u32) {
+    log::once(
+        &ANNOUNCED,
+        Level::Info,
+        format_args!(
+            "reuse: the centre view and a rotating set of views rendered each frame; a still scene is \
+             exact in all {views} views after {} frames",
+            rot.period()
+        ),
+    );
+}
