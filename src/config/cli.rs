@@ -176,8 +176,8 @@ mod tests {
         assert!(e.contains("no program"), "{e}");
         let e = parse_run(&args(&["--exit-after"])).unwrap_err();
         assert!(e.contains("needs a value"), "{e}");
-        let e = parse_run(&args(&["--mode", "auto", "prog"])).unwrap_err();
-        assert!(e.contains("not available"), "{e}");
+        let e = parse_run(&args(&["--mode", "warp", "prog"])).unwrap_err();
+        assert!(e.contains("--mode warp") && e.contains("expected"), "{e}");
     }
 
     #[test]

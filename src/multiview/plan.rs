@@ -176,11 +176,11 @@ mod tests {
     fn set_rendered_takes_effect_at_the_next_frame() {
         let mut p = ViewPlan::new(Mode::Auto, 9);
         assert_eq!(p.rendered, vec![4]);
-        p.set_rendered(3);
+        p.set_spaced(3);
         p.new_frame(false);
         assert_eq!(p.rendered, vec![0, 4, 8]);
         assert!(p.fast() && !p.all && !p.draws(1) && p.draws(8));
-        p.set_rendered(9);
+        p.set_spaced(9);
         p.new_frame(false);
         assert!(!p.fast() && p.all && !p.synthesise);
     }
