@@ -62,9 +62,13 @@ fn bad_quilt_syntax_is_one_line_error() {
 }
 
 #[test]
-fn options_not_available_yet_are_refused_not_ignored() {
-    assert_one_line_error(&launch(&["run", "--mode", "auto", "--", "true"], &[]), "not available");
+fn bad_modes_are_refused_not_ignored() {
+    assert_one_line_error(&launch(&["run", "--mode", "warp", "--", "true"], &[]), "--mode warp");
     assert_one_line_error(&launch(&["run", "--mode", "hybrid:0", "--", "true"], &[]), "hybrid:K");
+    assert_one_line_error(
+        &launch(&["run", "--synth-warp", "quads", "--", "true"], &[]),
+        "rows or grid",
+    );
 }
 
 #[test]
