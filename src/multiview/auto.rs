@@ -260,7 +260,9 @@ impl Controller {
     /// Cheapest sufficient K that fits, else the largest that fits, else the fastest; the
     /// current K is favoured by the dead band.
     fn choose(&self) -> (u32, &'static str) {
-        let band = |k: u32| if k == self.k { 1.0 + BAND } else { 1.0 };
+        // A dead band on both sides: the current K stays while within 5 % over the budget, another
+        // is taken only 5 % under it, so a K whose cost sits at the budget does not flicker.
+        let band = |k: u32| if k == self.k { 1.0 + BAND } else { 1.0 - BAND };
         let predicted: Vec<(u32, f64)> = (1..=self.views).filter_map(|k| Some((k, self.predict(k)?))).collect();
         let fits: Vec<(u32, f64)> = predicted
             .iter()

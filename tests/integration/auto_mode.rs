@@ -56,7 +56,7 @@ fn statuses(log: &str) -> Vec<(u32, f64, u64)> {
 /// frames, measured after the last change, hold the budget (within 10 %: its dead band is 5 %,
 /// and the status median is over more frames than the controller's).
 #[test]
-#[ignore = "fails on main since the row warp: auto at K = N takes 2.2x the wall time of --mode exact (same CPU time; an unfound serialisation), so its costs mislead the controller. Issue 12 note; fix first"]
+#[ignore = "flaky on main: on bloom with the row warp the controller swings between neighbouring K (2 and 3) every few frames, the drift factor moving every estimate with the current K's noise. Issue 12 note; fix first"]
 fn auto_holds_a_budget_between_synth_and_exact() {
     let (exact, _) = frame_time("bloom", &["exact"], "20");
     let (synth, _) = frame_time("bloom", &["synth"], "20");
@@ -92,7 +92,6 @@ fn auto_holds_a_budget_between_synth_and_exact() {
 /// software rasterizer"), so exact is both the fastest and the best, and auto ends there
 /// whatever the budget between them.
 #[test]
-#[ignore = "fails on main since the row warp: auto at K = N takes 2.2x the wall time of --mode exact (same CPU time; an unfound serialisation), so its costs mislead the controller. Issue 12 note; fix first"]
 fn auto_ends_at_exact_where_exact_is_the_fastest() {
     let (exact, _) = frame_time("cubes", &["exact"], "30");
     let (synth, _) = frame_time("cubes", &["synth"], "30");
