@@ -34,18 +34,6 @@ enum Saved {
     Buffer(GLenum, u32),
     /// (target, index, name, start, size) of an indexed buffer binding.
     IndexedBuffer(GLenum, u32, u32, i64, i64),
-    Image(u32, ImageBinding),
-}
-
-/// One image unit's binding (`glBindImageTexture`'s arguments).
-#[derive(Clone, Copy)]
-struct ImageBinding {
-    name: u32,
-    level: i32,
-    layered: bool,
-    layer: i32,
-    access: u32,
-    format: u32,
 }
 
 pub struct StateGuard<'a> {
@@ -215,29 +203,6 @@ impl<'a> StateGuard<'a> {
         self
     }
 
-    /// Image units `units` (GL 4.2).
-    pub fn images(mut self, units: std::ops::Range<u32>) -> Self {
-        for unit in units {
-            let get = |pname| {
-                crate::log::costs::gl_query();
-                let mut v = 0;
-                // SAFETY: an indexed single-value query into a local.
-                unsafe { self.gl.GetIntegeri_v(pname, unit, &mut v) };
-                v
-            };
-            let b = ImageBinding {
-                name: get(IMAGE_BINDING_NAME) as u32,
-                level: get(IMAGE_BINDING_LEVEL),
-                layered: get(IMAGE_BINDING_LAYERED) != 0,
-                layer: get(IMAGE_BINDING_LAYER),
-                access: get(IMAGE_BINDING_ACCESS) as u32,
-                format: get(IMAGE_BINDING_FORMAT) as u32,
-            };
-            self.saved.push(Saved::Image(unit, b));
-        }
-        self
-    }
-
     pub fn matrix_mode(mut self) -> Self {
         self.saved.push(Saved::MatrixMode(get_i(self.gl, MATRIX_MODE)));
         self
@@ -275,16 +240,6 @@ impl<'a> StateGuard<'a> {
                 }
                 Saved::Buffer(target, name) => gl.BindBuffer(target, name),
                 Saved::IndexedBuffer(target, i, name, _, 0) => gl.BindBufferBase(target, i, name),
-                Saved::Image(unit, b) => gl.BindImageTexture(
-                    unit,
-                    b.name,
-                    b.level,
-                    b.layered as u8,
-                    b.layer,
-                    b.access,
-                    // An unused unit reports format 0, which binding refuses.
-                    if b.format == 0 { R8 } else { b.format },
-                ),
                 Saved::IndexedBuffer(target, i, name, start, size) => {
                     gl.BindBufferRange(target, i, name, start as isize, size as isize)
                 }

@@ -14,7 +14,6 @@
 
 use super::layout::QuiltLayout;
 use super::target::QuiltTarget;
-use super::window_format::FRAMEBUFFER_FLIP_Y_MESA;
 use crate::gl::GlInfo;
 use crate::gl::guard::{StateGuard, get_i};
 use crate::gl::types::GLbitfield;
@@ -69,16 +68,11 @@ fn renderbuffer(gl: &Gl, format: GLenum, (w, h): (i32, i32)) -> u32 {
     rb
 }
 
-/// A framebuffer of ours with `color` (a texture when `texture`) and optionally depth.
+/// A framebuffer of ours (`target::framebuffer`) with `color` (a texture when `.1`) and
+/// optionally depth; an error if it is incomplete.
 fn framebuffer(gl: &Gl, flip: bool, color: (u32, bool), depth: Option<(GLenum, u32)>) -> Result<u32, String> {
-    let mut fbo = 0;
-    // SAFETY: our own framebuffer and images; the caller's guard restores the bindings.
-    unsafe {
-        gl.GenFramebuffers(1, &mut fbo);
-        gl.BindFramebuffer(FRAMEBUFFER, fbo);
-        if flip {
-            gl.FramebufferParameteri(FRAMEBUFFER, FRAMEBUFFER_FLIP_Y_MESA, TRUE as i32);
-        }
+    // SAFETY: attaching our own images to the framebuffer just made and bound.
+    let fbo = super::target::framebuffer(gl, flip, || unsafe {
         match color {
             (t, true) => gl.FramebufferTexture2D(FRAMEBUFFER, COLOR_ATTACHMENT0, TEXTURE_2D, t, 0),
             (rb, false) => gl.FramebufferRenderbuffer(FRAMEBUFFER, COLOR_ATTACHMENT0, RENDERBUFFER, rb),
@@ -86,6 +80,9 @@ fn framebuffer(gl: &Gl, flip: bool, color: (u32, bool), depth: Option<(GLenum, u
         if let Some((point, rb)) = depth {
             gl.FramebufferRenderbuffer(FRAMEBUFFER, point, RENDERBUFFER, rb);
         }
+    });
+    // SAFETY: a status query on the bound framebuffer, and deleting our own.
+    unsafe {
         if gl.CheckFramebufferStatus(FRAMEBUFFER) != FRAMEBUFFER_COMPLETE {
             gl.DeleteFramebuffers(1, &fbo);
             return Err("framebuffer incomplete".into());

@@ -54,16 +54,8 @@ fn texture(gl: &Gl, format: GLenum, (w, h): (i32, i32), filter: GLenum) -> u32 {
         gl.ActiveTexture(TEXTURE0);
         gl.BindTexture(TEXTURE_2D, t);
         gl.TexStorage2D(TEXTURE_2D, 1, format, w.max(1), h.max(1));
-        for (p, v) in [
-            (TEXTURE_MIN_FILTER, filter),
-            (TEXTURE_MAG_FILTER, filter),
-            (TEXTURE_WRAP_S, CLAMP_TO_EDGE),
-            (TEXTURE_WRAP_T, CLAMP_TO_EDGE),
-            (TEXTURE_COMPARE_MODE, NONE),
-        ] {
-            gl.TexParameteri(TEXTURE_2D, p, v as i32);
-        }
     }
+    super::resources::sample_plainly(gl, TEXTURE_2D, filter);
     t
 }
 

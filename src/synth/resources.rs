@@ -36,6 +36,16 @@ fn array(gl: &Gl, format: GLenum, (w, h): (i32, i32), layers: usize, filter: GLe
         gl.GenTextures(1, &mut t);
         gl.BindTexture(TEXTURE_2D_ARRAY, t);
         gl.TexStorage3D(TEXTURE_2D_ARRAY, 1, format, w.max(1), h.max(1), layers as i32);
+    }
+    sample_plainly(gl, TEXTURE_2D_ARRAY, filter);
+    t
+}
+
+/// `filter` both ways, clamped to the edge, no depth comparison: the bound `target` texture
+/// of ours read as plain values by our passes.
+pub fn sample_plainly(gl: &Gl, target: GLenum, filter: GLenum) {
+    // SAFETY: parameters of our own texture, bound by the caller.
+    unsafe {
         for (p, v) in [
             (TEXTURE_MIN_FILTER, filter),
             (TEXTURE_MAG_FILTER, filter),
@@ -43,10 +53,9 @@ fn array(gl: &Gl, format: GLenum, (w, h): (i32, i32), layers: usize, filter: GLe
             (TEXTURE_WRAP_T, CLAMP_TO_EDGE),
             (TEXTURE_COMPARE_MODE, NONE),
         ] {
-            gl.TexParameteri(TEXTURE_2D_ARRAY, p, v as i32);
+            gl.TexParameteri(target, p, v as i32);
         }
     }
-    t
 }
 
 /// A buffer of ours with `bytes` of uninitialised storage (written by our passes).
