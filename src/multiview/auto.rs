@@ -39,8 +39,11 @@
 //! under it (and, to be chosen for being cheaper, be 5 % cheaper); a change is made after it has been called for on
 //! `PATIENCE` frames in a row (an end measured only to know its cost is left after
 //! `PROBE_FRAMES` measured frames: exact can cost seconds a frame); the first frame after a change
-//! (resources reallocated) and the first frames of the process are not measured. Each change
-//! is logged at info, and every `STATUS_FRAMES` frames at one K their median time.
+//! (resources reallocated) and the first frames of the process are not measured. A K left
+//! for going over the budget is not taken again for `BACK_OFF` frames, twice as long each
+//! further time: on a shared machine runs of cheap frames come and go, and each one made a K
+//! that sits at the budget look affordable again. Each change is logged at info, and every
+//! `STATUS_FRAMES` frames at one K their median time.
 
 use super::Multiview;
 use super::plan::ViewPlan;
@@ -60,6 +63,10 @@ const BAND: f64 = 0.05;
 const PATIENCE: u32 = 3;
 /// Frames an end measured only to know its cost is measured for.
 const PROBE_FRAMES: usize = 2;
+/// Frames a K left for going over the budget is not chosen again, the first time; each
+/// further time it is left so, twice as many (up to `MAX_BACK_OFF`).
+const BACK_OFF: u64 = 30;
+const MAX_BACK_OFF: u64 = 960;
 /// Share of a synthesised tile's pixels in disocclusions that is left to the warp's
 /// stretching: 0.2 % (about 470 pixels of a 420x560 tile), in the range where
 /// `--measure-error` on `cubes` puts stretched holes at or above 30 dB.
@@ -104,6 +111,11 @@ pub struct Controller {
     needs: Option<SceneNeeds>,
     /// The current K was chosen to be measured: it is left as soon as it has been.
     probing: bool,
+    /// Frames seen.
+    frames: u64,
+    /// By K − 1: the frame before which that K is not taken again, and the back-off the next
+    /// time it goes over the budget.
+    back_off: Vec<(u64, u64)>,
 }
 
 impl Controller {
@@ -136,6 +148,8 @@ impl Controller {
             pending: None,
             needs: None,
             probing: false,
+            frames: 0,
+            back_off: vec![(0, BACK_OFF); n as usize],
         }
     }
 
@@ -157,6 +171,7 @@ impl Controller {
     /// next frame, if any.
     pub fn frame(&mut self, ms: Option<f64>) -> Option<Change> {
         self.since_change = self.since_change.saturating_add(1);
+        self.frames += 1;
         if let Some(ms) = ms.filter(|m| self.since_change > SETTLE && m.is_finite() && *m > 0.0) {
             self.observe(ms);
         }
@@ -179,10 +194,27 @@ impl Controller {
             predicted_ms: self.predict(want),
             why,
         };
+        self.back_off_if_over_budget();
         (self.k, self.since_change, self.pending) = (want, 0, None);
         self.recent.clear();
         self.probing = [MEASURING_SYNTH, MEASURING_EXACT].contains(&why);
         Some(change)
+    }
+
+    /// The current K is being left: when it is for going over the budget, it is not taken
+    /// again for a while, longer each time. A K whose cost sits at the budget is otherwise
+    /// retried whenever a run of cheap frames at a neighbouring K scales its estimate under
+    /// it (seen on bloom under a loaded machine: 2 ↔ 3 every few frames).
+    fn back_off_if_over_budget(&mut self) {
+        let over = self.predict(self.k).is_some_and(|t| t > self.budget_ms * (1.0 + BAND));
+        let slot = &mut self.back_off[(self.k - 1) as usize];
+        if over && !self.probing {
+            *slot = (self.frames + slot.1, (slot.1 * 2).min(MAX_BACK_OFF));
+        }
+    }
+
+    fn backing_off(&self, k: u32) -> bool {
+        k != self.k && self.frames < self.back_off[(k - 1) as usize].0
     }
 
     /// A frame at the current K took `ms`: its estimate becomes the median of its last
@@ -267,7 +299,7 @@ impl Controller {
         let fits: Vec<(u32, f64)> = predicted
             .iter()
             .copied()
-            .filter(|&(k, t)| t <= self.budget_ms * band(k))
+            .filter(|&(k, t)| t <= self.budget_ms * band(k) && !self.backing_off(k))
             .collect();
         let required = self.required();
         let cheapest = |set: &mut dyn Iterator<Item = (u32, f64)>| {
