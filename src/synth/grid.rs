@@ -37,21 +37,39 @@ fn link_grid_pass(gl: &Gl, body: &str) -> Result<u32, String> {
 }
 
 impl Programs {
-    pub fn link(gl: &Gl, info: GlInfo) -> Result<Programs, String> {
+    /// The parallax pass every warp uses, and with `grid` the quad grid's own passes (the
+    /// row and per-pixel warps do without them: four programs fewer to compile).
+    pub fn link(gl: &Gl, info: GlInfo, grid: bool) -> Result<Programs, String> {
         let link = |frag| crate::gl::program::link(gl, info, FULLSCREEN_VERT, frag);
-        let p = Programs {
-            parallax: link(PARALLAX_FRAG).map_err(|e| format!("synthesis parallax pass: {e}"))?,
+        let parallax = link(PARALLAX_FRAG).map_err(|e| format!("synthesis parallax pass: {e}"))?;
+        if !grid {
+            return Ok(Programs {
+                parallax,
+                minmax: 0,
+                leaves: 0,
+                columns: 0,
+                warp: 0,
+            });
+        }
+        Ok(Programs {
+            parallax,
             minmax: link(MINMAX_FRAG).map_err(|e| format!("synthesis pyramid pass: {e}"))?,
             leaves: link_grid_pass(gl, LEAVES_COMP).map_err(|e| format!("synthesis grid pass: {e}"))?,
             columns: link_grid_pass(gl, COLUMNS_COMP).map_err(|e| format!("synthesis column pass: {e}"))?,
             warp: crate::gl::program::link(gl, info, WARP_VERT, WARP_FRAG)
                 .map_err(|e| format!("synthesis warp pass: {e}"))?,
-        };
-        Ok(p)
+        })
     }
 
-    pub fn names(&self) -> [u32; 5] {
+    pub fn has_grid(&self) -> bool {
+        self.warp != 0
+    }
+
+    pub fn names(&self) -> Vec<u32> {
         [self.parallax, self.minmax, self.leaves, self.columns, self.warp]
+            .into_iter()
+            .filter(|&p| p != 0)
+            .collect()
     }
 }
 
@@ -98,6 +116,9 @@ pub struct Pass<'a> {
 
 impl Pass<'_> {
     pub fn run(&self, job: &Job) -> Result<(), String> {
+        if !(self.programs.has_grid() && self.res.has_grid()) {
+            return Err("the grid's programs or storage are missing".into());
+        }
         let mut profile = super::profile::Profile::new(self.gl);
         for (j, source) in job.sources.iter().enumerate() {
             self.copy_source(j, source, job)?;

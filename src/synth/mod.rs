@@ -72,6 +72,13 @@ pub struct Job<'a> {
     pub per_pixel: bool,
 }
 
+fn delete_programs(gl: &Gl, names: &[u32]) {
+    for &p in names {
+        // SAFETY: deleting a program of ours.
+        unsafe { gl.DeleteProgram(p) };
+    }
+}
+
 /// Per-context synthesis state: programs, working textures, a framebuffer and vertex array.
 #[derive(Default)]
 pub struct Synthesizer {
@@ -96,10 +103,15 @@ impl Synthesizer {
         if job.sources.is_empty() || job.targets.is_empty() {
             return Ok(());
         }
+        let grid = !job.rows && !job.per_pixel;
         let programs = match &self.programs {
-            Some(p) => p.clone()?,
-            None => {
-                let p = grid::Programs::link(gl, info);
+            Some(Ok(p)) if p.has_grid() || !grid => *p,
+            Some(Err(e)) => return Err(e.clone()),
+            _ => {
+                if let Some(Ok(old)) = self.programs.take() {
+                    delete_programs(gl, &old.names());
+                }
+                let p = grid::Programs::link(gl, info, grid);
                 self.programs = Some(p.clone());
                 p?
             }
@@ -128,7 +140,7 @@ impl Synthesizer {
         let fits = self
             .resources
             .as_ref()
-            .is_some_and(|r| r.fits(job.tile, job.sources.len(), job.depth_format));
+            .is_some_and(|r| r.fits(job.tile, job.sources.len(), job.depth_format, grid));
         if !fits {
             if let Some(old) = self.resources.take() {
                 old.delete(gl);
@@ -138,6 +150,7 @@ impl Synthesizer {
                 job.tile,
                 job.sources.len(),
                 job.depth_format,
+                grid,
             ));
         }
         let res = self.resources.as_ref().ok_or("no resources")?;

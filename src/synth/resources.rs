@@ -1,5 +1,7 @@
 //! The textures and buffers a warp works in, sized for one tile and K rendered views, kept
-//! from frame to frame and rebuilt only when the tile, K or the depth format changes.
+//! from frame to frame and rebuilt only when the tile, K or the depth format changes. The
+//! quad grid's pyramid and leaf lists (about 53 bytes per pixel and source: 12 MB per
+//! source at 420x560) exist only when the grid warp runs.
 
 use crate::gl::*;
 
@@ -20,6 +22,7 @@ pub struct Resources {
     pub color: u32,
     pub depth: u32,
     pub parallax: u32,
+    /// The grid's storage from here on (all 0 when the grid is not used).
     pub levels: [u32; LEVELS],
     pub leaves: u32,
     /// A buffer texture over `leaves`, which the warp's vertex shader reads.
@@ -77,52 +80,59 @@ pub fn level_size(tile: (i32, i32), l: usize) -> (i32, i32) {
 }
 
 impl Resources {
-    pub fn create(gl: &Gl, tile: (i32, i32), sources: usize, depth_format: GLenum) -> Resources {
-        let leaf_stride = ((tile.0 as isize * tile.1 as isize * LEAF_BYTES) + 255) / 256 * 256;
-        let mut levels = [0; LEVELS];
-        for (l, t) in levels.iter_mut().enumerate() {
-            *t = array(gl, RGBA32F, level_size(tile, l), sources, NEAREST);
-        }
-        let leaves = buffer(gl, leaf_stride * sources as isize);
-        let commands = buffer(gl, COMMAND_STRIDE * sources as isize);
-        let mut leaf_view = 0;
-        // SAFETY: a name for our buffer texture (its storage is pointed at per source).
-        unsafe { gl.GenTextures(1, &mut leaf_view) };
-        Resources {
+    /// Storage for `sources` views of `tile`; the grid's own only with `grid`.
+    pub fn create(gl: &Gl, tile: (i32, i32), sources: usize, depth_format: GLenum, grid: bool) -> Resources {
+        let mut r = Resources {
             tile,
             sources,
             depth_format,
             color: array(gl, RGBA8, tile, sources, LINEAR),
             depth: array(gl, depth_format, tile, sources, NEAREST),
             parallax: array(gl, R32F, tile, sources, NEAREST),
-            levels,
-            leaves,
-            leaf_view,
-            commands,
-            leaf_stride,
+            levels: [0; LEVELS],
+            leaves: 0,
+            leaf_view: 0,
+            commands: 0,
+            leaf_stride: 0,
+        };
+        if grid {
+            r.leaf_stride = ((tile.0 as isize * tile.1 as isize * LEAF_BYTES) + 255) / 256 * 256;
+            for (l, t) in r.levels.iter_mut().enumerate() {
+                *t = array(gl, RGBA32F, level_size(tile, l), sources, NEAREST);
+            }
+            r.leaves = buffer(gl, r.leaf_stride * sources as isize);
+            r.commands = buffer(gl, COMMAND_STRIDE * sources as isize);
+            // SAFETY: a name for our buffer texture (its storage is pointed at per source).
+            unsafe { gl.GenTextures(1, &mut r.leaf_view) };
         }
+        r
     }
 
-    pub fn fits(&self, tile: (i32, i32), sources: usize, depth_format: GLenum) -> bool {
-        self.tile == tile && self.sources == sources && self.depth_format == depth_format
+    pub fn has_grid(&self) -> bool {
+        self.leaves != 0
+    }
+
+    pub fn fits(&self, tile: (i32, i32), sources: usize, depth_format: GLenum, grid: bool) -> bool {
+        self.tile == tile && self.sources == sources && self.depth_format == depth_format && (self.has_grid() || !grid)
     }
 
     pub fn textures(&self) -> Vec<u32> {
         let mut t = vec![self.color, self.depth, self.parallax, self.leaf_view];
         t.extend(self.levels);
+        t.retain(|&t| t != 0);
         t
     }
 
-    pub fn buffers(&self) -> [u32; 2] {
-        [self.leaves, self.commands]
+    pub fn buffers(&self) -> Vec<u32> {
+        [self.leaves, self.commands].into_iter().filter(|&b| b != 0).collect()
     }
 
     pub fn delete(&self, gl: &Gl) {
-        let t = self.textures();
+        let (t, b) = (self.textures(), self.buffers());
         // SAFETY: deleting our own objects.
         unsafe {
             gl.DeleteTextures(t.len() as i32, t.as_ptr());
-            gl.DeleteBuffers(2, self.buffers().as_ptr());
+            gl.DeleteBuffers(b.len() as i32, b.as_ptr());
         }
     }
 }
