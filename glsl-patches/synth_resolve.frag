@@ -6,6 +6,8 @@ struct Out {
     float depth;
 };
 layout(std430, binding = 2) readonly buffer Targets_out { Out out_pixels[]; };
+// The pixels that stay filled over holes (their depth's sign bit: synth_rows.comp).
+layout(std430, binding = 3) buffer Holes { uint holes; };
 uniform int u_layer;
 uniform ivec2 u_origin;
 uniform ivec2 u_tile;
@@ -16,5 +18,8 @@ void main()
     ivec2 p = ivec2(gl_FragCoord.xy) - u_origin;
     Out o = out_pixels[(u_layer * u_tile.y + p.y) * u_tile.x + p.x];
     o_color = unpackUnorm4x8(o.color);
-    gl_FragDepth = o.depth;
+    gl_FragDepth = abs(o.depth);
+    if ((floatBitsToUint(o.depth) & 0x80000000u) != 0u) {
+        atomicAdd(holes, 1u);
+    }
 }

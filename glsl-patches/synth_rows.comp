@@ -17,14 +17,14 @@ struct Pixel {
     float parallax;
 };
 layout(std430, binding = 1) readonly buffer Sources { Pixel src_pixels[]; };
+// A depth whose sign bit is set (depths are never negative) marks a pixel filled because
+// nothing of the sources landed there (a disocclusion, or what comes into view beyond the
+// edge); synth_resolve.frag counts the ones that stay.
 struct Out {
     uint color;
     float depth;
 };
 layout(std430, binding = 2) buffer Targets_out { Out out_pixels[]; };
-// Pixels filled because nothing of the sources landed there (disocclusions, and what comes
-// into view beyond the edge), as written: an upper bound of the holes of the final views.
-layout(std430, binding = 3) buffer Holes { uint holes; };
 uniform ivec2 u_tile;
 uniform int u_targets;
 // (s, f) times half the tile width: pixels per unit of parallax, and of focus.
@@ -53,15 +53,13 @@ bool nearer(float a, float b)
     return u_reversed == 1 ? a >= b : a <= b;
 }
 
-bool put(int x, vec4 c, float z)
+void put(int x, vec4 c, float z, bool hole)
 {
     int i = out_base + x;
-    if (nearer(z, out_pixels[i].depth)) {
-        out_pixels[i].depth = z;
+    if (nearer(z, abs(out_pixels[i].depth))) {
+        out_pixels[i].depth = hole ? uintBitsToFloat(floatBitsToUint(z) | 0x80000000u) : z;
         out_pixels[i].color = packUnorm4x8(c);
-        return true;
     }
-    return false;
 }
 
 // Target pixels whose centres lie in [a, b), clamped to the row.
@@ -74,12 +72,8 @@ ivec2 covered(float a, float b)
 void fill(float a, float b, vec4 c, float z, bool hole)
 {
     ivec2 r = covered(a, b);
-    uint n = 0u;
     for (int i = r.x; i < r.y; i++) {
-        n += put(i, c, z) ? 1u : 0u;
-    }
-    if (hole && n > 0u) {
-        atomicAdd(holes, n);
+        put(i, c, z, hole);
     }
 }
 
@@ -112,7 +106,7 @@ void scan(int src, float du)
             float inv = 1.0 / (X - px);
             for (int i = r.x; i < r.y; i++) {
                 float t = clamp((float(i) + 0.5 - px) * inv, 0.0, 1.0);
-                put(i, mix(pc, c, t), mix(pz, z, t));
+                put(i, mix(pc, c, t), mix(pz, z, t), false);
             }
         } else {
             fill(px, px + 0.5, pc, pz, false);

@@ -54,7 +54,7 @@ pub struct RowTargets {
     packed: u32,
     warped: u32,
     params: u32,
-    /// One counter: the pixels the last warp filled over holes.
+    /// One counter: the pixels of the last warp's targets filled over holes.
     holes: u32,
 }
 
@@ -109,6 +109,7 @@ impl RowTargets {
         let mut n = 0u32;
         // SAFETY: four bytes of our own buffer into a local; the binding is put back.
         unsafe {
+            gl.MemoryBarrier(BUFFER_UPDATE_BARRIER_BIT);
             let old = crate::gl::guard::get_i(gl, COPY_READ_BUFFER_BINDING) as u32;
             gl.BindBuffer(COPY_READ_BUFFER, self.holes);
             gl.GetBufferSubData(COPY_READ_BUFFER, 0, 4, (&mut n as *mut u32).cast());
@@ -185,7 +186,6 @@ fn warp_rows(pass: &Pass, programs: &RowPrograms, out: &RowTargets, job: &Job) {
         gl.BufferSubData(ARRAY_BUFFER, 0, 4, [0u32].as_ptr().cast());
         gl.MemoryBarrier(SHADER_STORAGE_BARRIER_BIT);
         gl.BindBufferBase(SHADER_STORAGE_BUFFER, 0, out.params);
-        gl.BindBufferBase(SHADER_STORAGE_BUFFER, 3, out.holes);
         gl.BindBufferBase(SHADER_STORAGE_BUFFER, 1, out.packed);
         gl.BindBufferBase(SHADER_STORAGE_BUFFER, 2, out.warped);
         gl.UseProgram(p);
@@ -218,6 +218,7 @@ fn resolve(pass: &Pass, programs: &RowPrograms, out: &RowTargets, job: &Job) {
         gl.UseProgram(p);
         gl.Uniform2i(loc(gl, p, "u_tile"), job.tile.0, job.tile.1);
         gl.BindBufferBase(SHADER_STORAGE_BUFFER, 2, out.warped);
+        gl.BindBufferBase(SHADER_STORAGE_BUFFER, 3, out.holes);
         gl.BindVertexArray(pass.vao);
         let (u_layer, u_origin) = (loc(gl, p, "u_layer"), loc(gl, p, "u_origin"));
         for (i, t) in job.targets.iter().enumerate() {
