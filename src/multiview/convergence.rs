@@ -52,6 +52,10 @@ impl SceneDepth {
 /// when the tracker asks (in a draw or a clear), and at the swap.
 pub fn take_depth(gl: &Gl, app: &mut AppState, mv: &mut Multiview) {
     mv.scene.tracker.phase = Phase::Taken;
+    super::synthesis::capture_depth(gl, mv);
+    if !reads_depth(mv) {
+        return;
+    }
     let Some(target) = mv.scene.tracker.target else { return };
     let Some((fbo, rect, from)) = source(mv, target) else {
         return;
@@ -73,6 +77,11 @@ pub fn take_depth(gl: &Gl, app: &mut AppState, mv: &mut Multiview) {
     };
     mv.scene.copy.take(gl, mv.info, (fbo, format), rect, restore);
     mv.scene.taken = Some(from);
+}
+
+/// Auto-convergence and `--mode auto` read the scene's depth back at the swap.
+fn reads_depth(mv: &Multiview) -> bool {
+    mv.settings.convergence == Convergence::Auto || mv.auto.is_some()
 }
 
 /// Before a clear or an invalidation of the app's `fbo` (`depth`: of its depth buffer too):
@@ -130,8 +139,9 @@ fn checked_describe(gl: &Gl, mv: &Multiview, fbo: u32, from: Source) -> Result<S
 /// At the swap: the frame's estimate, and the next frame's scene target.
 pub fn update_convergence(gl: &Gl, app: &mut AppState, mv: &mut Multiview) {
     let Some(layout) = mv.layout() else { return };
-    // `--mode auto` reads the scene's depth too, for what the scene needs (`auto`).
-    if mv.settings.convergence == Convergence::Auto || mv.auto.is_some() {
+    // `--mode auto` reads the scene's depth too, for what the scene needs (`auto`); the
+    // fast modes follow the scene's framebuffer to warp by its depth.
+    if reads_depth(mv) || mv.plan.fast() {
         if mv.scene.tracker.phase == Phase::Drawn {
             take_depth(gl, app, mv);
         }

@@ -61,6 +61,7 @@ pub fn end_frame(gl: &Gl, mv: &mut Multiview, frame: u64) {
             worst.0
         ));
     }
+    mv.synth.forget_capture();
     super::reuse::plan_next_frame(mv, frame + 1);
     let measured = mv
         .settings
@@ -89,6 +90,45 @@ pub fn warp(gl: &Gl, mv: &mut Multiview) {
         mv.plan = super::plan::ViewPlan::new(crate::config::Mode::Exact, mv.plan.views());
         mv.auto = None;
     }
+}
+
+/// The rendered views' scene depth, copied now for this frame's warp: called when the scene
+/// tracker sees the scene's depth about to be drawn over or cleared (with auto-convergence's
+/// copy), so the warp gets the main camera's depth even when the program reuses the scene's
+/// framebuffer for a later pass.
+pub fn capture_depth(gl: &Gl, mv: &mut Multiview) {
+    if !mv.plan.synthesise || mv.plan.warped {
+        return;
+    }
+    let (Some(layout), Some(quilt)) = (mv.layout(), mv.quilt_fbo()) else {
+        return;
+    };
+    let (depth_fbo, depth_rect) = depth_source(mv, quilt);
+    let depths: Vec<(u32, [i32; 4])> = mv
+        .plan
+        .rendered
+        .iter()
+        .map(|&r| (depth_fbo(r), depth_rect(r)))
+        .collect();
+    let format = {
+        let _guard = StateGuard::new(gl, mv.info).framebuffers();
+        depth_copy::describe(gl, mv.info, depths.first().map_or(quilt, |d| d.0))
+    };
+    drop((depth_fbo, depth_rect));
+    let Ok(format) =
+        format.map_err(|e| log::debug(format_args!("synthesis: the scene's depth is not captured early: {e}")))
+    else {
+        return;
+    };
+    if format.multisampled {
+        return;
+    }
+    let grid = mv.settings.synth_warp != crate::config::SynthWarp::Rows && !mv.plan.per_pixel;
+    let tile = (layout.tile_w as i32, layout.tile_h as i32);
+    let info = mv.info;
+    let mut synth = std::mem::take(&mut mv.synth);
+    synth.capture_depth(gl, info, &depths, tile, format.format, grid);
+    mv.synth = synth;
 }
 
 /// `kept`: views already filled (from the `--reuse` history).

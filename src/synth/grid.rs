@@ -112,6 +112,52 @@ pub struct Pass<'a> {
     pub res: &'a Resources,
     pub fbo: u32,
     pub vao: u32,
+    /// The sources' depth is in our array already (`Synthesizer::capture_depth`).
+    pub depth_ready: bool,
+}
+
+/// Attaches layer `layer` of `texture` (0: nothing) at `point` of our framebuffer `fbo`,
+/// bound for drawing.
+fn attach(gl: &Gl, fbo: u32, point: GLenum, texture: u32, layer: usize) {
+    // SAFETY: our own framebuffer and textures.
+    unsafe {
+        gl.BindFramebuffer(DRAW_FRAMEBUFFER, fbo);
+        gl.FramebufferTextureLayer(DRAW_FRAMEBUFFER, point, texture, 0, layer as i32);
+    }
+}
+
+fn detach_all(gl: &Gl, fbo: u32) {
+    for point in [COLOR_ATTACHMENT0, DEPTH_ATTACHMENT, STENCIL_ATTACHMENT] {
+        attach(gl, fbo, point, 0, 0);
+    }
+}
+
+/// `rect` of framebuffer `read` onto the bound draw framebuffer's `(w, h)`.
+fn blit(gl: &Gl, read: u32, r: [i32; 4], (w, h): (i32, i32), mask: u32) {
+    // SAFETY: a blit between a framebuffer of the layer's and ours.
+    unsafe {
+        gl.BindFramebuffer(READ_FRAMEBUFFER, read);
+        gl.BlitFramebuffer(r[0], r[1], r[0] + r[2], r[1] + r[3], 0, 0, w, h, mask, NEAREST);
+    }
+}
+
+/// The depth of `src` (framebuffer, rectangle) into layer `j` of our depth array through our
+/// framebuffer `fbo` (depth blits need the source's own format, which our array has).
+pub fn copy_depth(gl: &Gl, fbo: u32, res: &Resources, j: usize, src: (u32, [i32; 4]), format: GLenum) {
+    let stencil = matches!(format, DEPTH24_STENCIL8 | DEPTH32F_STENCIL8);
+    let point = if stencil {
+        DEPTH_STENCIL_ATTACHMENT
+    } else {
+        DEPTH_ATTACHMENT
+    };
+    detach_all(gl, fbo);
+    attach(gl, fbo, point, res.depth, j);
+    // SAFETY: no colour buffer to draw into while only depth is attached.
+    unsafe { gl.DrawBuffer(NONE) };
+    blit(gl, src.0, src.1, res.tile, DEPTH_BUFFER_BIT);
+    // SAFETY: our framebuffer's draw buffer back to its colour attachment.
+    unsafe { gl.DrawBuffer(COLOR_ATTACHMENT0) };
+    detach_all(gl, fbo);
 }
 
 impl Pass<'_> {
@@ -161,49 +207,20 @@ impl Pass<'_> {
     /// Attaches layer `layer` of `texture` (0: nothing) at `point` of our framebuffer, bound
     /// for drawing.
     pub fn attach(&self, point: GLenum, texture: u32, layer: usize) {
-        // SAFETY: our own framebuffer and textures.
-        unsafe {
-            self.gl.BindFramebuffer(DRAW_FRAMEBUFFER, self.fbo);
-            self.gl
-                .FramebufferTextureLayer(DRAW_FRAMEBUFFER, point, texture, 0, layer as i32);
-        }
+        attach(self.gl, self.fbo, point, texture, layer);
     }
 
-    fn detach_all(&self) {
-        for point in [COLOR_ATTACHMENT0, DEPTH_ATTACHMENT, STENCIL_ATTACHMENT] {
-            self.attach(point, 0, 0);
-        }
-    }
-
-    /// The source's colour and depth into layer `j` of our arrays (depth blits need the
-    /// source's own format, which our array has).
+    /// The source's colour (and, unless `depth_ready`, its depth) into layer `j` of our
+    /// arrays.
     pub fn copy_source(&self, j: usize, s: &Source, job: &Job) -> Result<(), String> {
-        let gl = self.gl;
         let (tw, th) = job.tile;
-        let blit = |read: u32, r: [i32; 4], mask: u32, filter: GLenum| {
-            // SAFETY: a blit between a framebuffer of the layer's and ours.
-            unsafe {
-                gl.BindFramebuffer(READ_FRAMEBUFFER, read);
-                gl.BlitFramebuffer(r[0], r[1], r[0] + r[2], r[1] + r[3], 0, 0, tw, th, mask, filter);
-            }
-        };
-        self.detach_all();
+        detach_all(self.gl, self.fbo);
         self.attach(COLOR_ATTACHMENT0, self.res.color, j);
-        blit(s.color.0, s.color.1, COLOR_BUFFER_BIT, NEAREST);
-        self.detach_all();
-        let stencil = matches!(job.depth_format, DEPTH24_STENCIL8 | DEPTH32F_STENCIL8);
-        let point = if stencil {
-            DEPTH_STENCIL_ATTACHMENT
-        } else {
-            DEPTH_ATTACHMENT
-        };
-        self.attach(point, self.res.depth, j);
-        // SAFETY: no colour buffer to draw into while only depth is attached.
-        unsafe { gl.DrawBuffer(NONE) };
-        blit(s.depth.0, s.depth.1, DEPTH_BUFFER_BIT, NEAREST);
-        // SAFETY: our framebuffer's draw buffer back to its colour attachment.
-        unsafe { gl.DrawBuffer(COLOR_ATTACHMENT0) };
-        self.detach_all();
+        blit(self.gl, s.color.0, s.color.1, (tw, th), COLOR_BUFFER_BIT);
+        detach_all(self.gl, self.fbo);
+        if !self.depth_ready {
+            copy_depth(self.gl, self.fbo, self.res, j, s.depth, job.depth_format);
+        }
         Ok(())
     }
 

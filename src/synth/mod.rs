@@ -89,6 +89,8 @@ pub struct Synthesizer {
     fbo: u32,
     vao: u32,
     pixel: pixel::PixelSynth,
+    /// Sources and depth format of the depth `capture_depth` copied for the next warp.
+    captured: Option<(usize, GLenum)>,
 }
 
 impl Synthesizer {
@@ -130,29 +132,8 @@ impl Synthesizer {
         };
         let _guard = grid::guard(gl, info);
         crate::gl::guard::neutral_pass_state(gl, info);
-        if self.fbo == 0 {
-            // SAFETY: our own framebuffer and vertex array (per context).
-            unsafe {
-                gl.GenFramebuffers(1, &mut self.fbo);
-                gl.GenVertexArrays(1, &mut self.vao);
-            }
-        }
-        let fits = self
-            .resources
-            .as_ref()
-            .is_some_and(|r| r.fits(job.tile, job.sources.len(), job.depth_format, grid));
-        if !fits {
-            if let Some(old) = self.resources.take() {
-                old.delete(gl);
-            }
-            self.resources = Some(resources::Resources::create(
-                gl,
-                job.tile,
-                job.sources.len(),
-                job.depth_format,
-                grid,
-            ));
-        }
+        let captured = self.captured.take();
+        let kept = self.prepare(gl, job.tile, job.sources.len(), job.depth_format, grid);
         let res = self.resources.as_ref().ok_or("no resources")?;
         let pass = grid::Pass {
             gl,
@@ -160,6 +141,7 @@ impl Synthesizer {
             res,
             fbo: self.fbo,
             vao: self.vao,
+            depth_ready: kept && captured == Some((job.sources.len(), job.depth_format)),
         };
         if job.per_pixel {
             return self.pixel.run(gl, info, &pass, job);
@@ -181,6 +163,57 @@ impl Synthesizer {
         }
         let out = self.row_targets.as_ref().ok_or("no row targets")?;
         rows::run(&pass, &row_programs, out, job)
+    }
+
+    /// Our framebuffer, vertex array and working storage for `sources` views of `tile`;
+    /// whether the storage there was is kept.
+    fn prepare(&mut self, gl: &Gl, tile: (i32, i32), sources: usize, depth_format: GLenum, grid: bool) -> bool {
+        if self.fbo == 0 {
+            // SAFETY: our own framebuffer and vertex array (per context).
+            unsafe {
+                gl.GenFramebuffers(1, &mut self.fbo);
+                gl.GenVertexArrays(1, &mut self.vao);
+            }
+        }
+        let fits = self
+            .resources
+            .as_ref()
+            .is_some_and(|r| r.fits(tile, sources, depth_format, grid));
+        if !fits {
+            if let Some(old) = self.resources.take() {
+                old.delete(gl);
+            }
+            self.resources = Some(resources::Resources::create(gl, tile, sources, depth_format, grid));
+        }
+        fits
+    }
+
+    /// The sources' depth (framebuffer and rectangle each) copied now, while it is the scene's:
+    /// a program that draws over its scene depth before the warp point (a full-screen pass
+    /// into the scene's framebuffer, as glmark2's `terrain` does) would otherwise hand the
+    /// warp that pass's depth. The next warp of as many sources uses this copy.
+    pub fn capture_depth(
+        &mut self,
+        gl: &Gl,
+        info: GlInfo,
+        depths: &[(u32, [i32; 4])],
+        tile: (i32, i32),
+        depth_format: GLenum,
+        grid: bool,
+    ) {
+        let _guard = grid::guard(gl, info);
+        crate::gl::guard::neutral_pass_state(gl, info);
+        self.prepare(gl, tile, depths.len(), depth_format, grid);
+        let Some(res) = self.resources.as_ref() else { return };
+        for (j, &d) in depths.iter().enumerate() {
+            grid::copy_depth(gl, self.fbo, res, j, d, depth_format);
+        }
+        self.captured = Some((depths.len(), depth_format));
+    }
+
+    /// A capture not used by the frame it was taken in is not used by the next.
+    pub fn forget_capture(&mut self) {
+        self.captured = None;
     }
 
     /// The share of the last row warp's pixels that were filled over holes (disocclusions

@@ -60,8 +60,13 @@ fn statuses(log: &str) -> Vec<(u32, f64, u64)> {
 /// at most three changes after the two probes.
 #[test]
 fn auto_holds_a_budget_between_synth_and_exact() {
-    let (exact, _) = frame_time("bloom", &["exact"], "20");
-    let (synth, _) = frame_time("bloom", &["synth"], "20");
+    // Twice each, alternating, the faster run of each kept: one run can meet a burst of
+    // other work (seen with the other tests of the suite running beside it).
+    let (mut exact, mut synth) = (f64::INFINITY, f64::INFINITY);
+    for _ in 0..2 {
+        exact = exact.min(frame_time("bloom", &["exact"], "20").0);
+        synth = synth.min(frame_time("bloom", &["synth"], "20").0);
+    }
     assert!(
         synth < exact * 0.8,
         "bloom: synth {synth:.1} ms is not faster than exact {exact:.1} ms"

@@ -40,6 +40,12 @@ pub fn app(name: &str) -> PathBuf {
 
 /// A fresh, empty directory for one test. Tests of this binary run in parallel, so each name
 /// may be asked for once per run: a second request is a bug (two tests sharing files).
+/// Where `temp_dir(test)` is, without creating or emptying it (a later step of a test reads
+/// what an earlier one left there).
+pub fn temp_path(test: &str) -> PathBuf {
+    Path::new(env!("CARGO_TARGET_TMPDIR")).join(test)
+}
+
 pub fn temp_dir(test: &str) -> PathBuf {
     static GIVEN: Mutex<BTreeSet<String>> = Mutex::new(BTreeSet::new());
     let fresh = GIVEN.lock().unwrap_or_else(|e| e.into_inner()).insert(test.to_string());
