@@ -100,9 +100,16 @@ fn unreadable(target: u32, e: &str) {
     );
 }
 
+/// The rendered view nearest the centre: the centre itself, except in a fast mode that does
+/// not render it (hybrid:K with an even K), whose centre tile or layer holds no depth yet
+/// when the copy is taken.
+fn centre(mv: &Multiview) -> u32 {
+    mv.plan.nearest(mv.camera.rig.centre())
+}
+
 /// The framebuffer holding the target's depth as the centre view saw it.
 fn source_fbo(mv: &Multiview, target: u32) -> Option<(u32, Source)> {
-    let centre = mv.camera.rig.centre() as usize;
+    let centre = centre(mv) as usize;
     Some(if target == 0 {
         (mv.target.as_ref()?.fbo, Source::Quilt)
     } else if let Some(s) = mv.shadows.get(&target) {
@@ -118,7 +125,7 @@ fn source(mv: &Multiview, target: u32) -> Option<(u32, [i32; 4], Source)> {
     let viewport = mv.scene.tracker.viewport;
     let rect = match (from, mv.target.as_ref(), mv.shadows.get(&target)) {
         (Source::Quilt, Some(quilt), _) => {
-            let centre = mv.camera.rig.centre();
+            let centre = centre(mv);
             intersect(quilt.layout.map_rect(centre, viewport), quilt.layout.tile_rect(centre))
         }
         (Source::Shadow, _, Some(s)) => intersect(s.scale.rect_out(viewport), [0, 0, s.size.0, s.size.1]),
