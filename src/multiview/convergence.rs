@@ -53,6 +53,11 @@ impl SceneDepth {
 pub fn take_depth(gl: &Gl, app: &mut AppState, mv: &mut Multiview) {
     mv.scene.tracker.phase = Phase::Taken;
     super::synthesis::capture_depth(gl, mv);
+    copy_for_convergence(gl, app, mv);
+}
+
+/// The convergence's copy of the target's depth (centre view), when it is read back.
+fn copy_for_convergence(gl: &Gl, app: &mut AppState, mv: &mut Multiview) {
     if !reads_depth(mv) {
         return;
     }
@@ -149,8 +154,11 @@ pub fn update_convergence(gl: &Gl, app: &mut AppState, mv: &mut Multiview) {
     // `--mode auto` reads the scene's depth too, for what the scene needs (`auto`); the
     // fast modes follow the scene's framebuffer to warp by its depth.
     if reads_depth(mv) || mv.plan.fast() {
+        // Not `take_depth`: at the swap the frame has been warped (`synthesis::end_frame`
+        // runs first) and the plan is the next frame's, which must not get this depth.
         if mv.scene.tracker.phase == Phase::Drawn {
-            take_depth(gl, app, mv);
+            mv.scene.tracker.phase = Phase::Taken;
+            copy_for_convergence(gl, app, mv);
         }
         estimate(gl, mv);
         choose_target(gl, mv);

@@ -180,3 +180,45 @@ fn contexts_without_compute_fall_back_to_exact() {
     assert_eq!(warns.len(), 1, "{err}");
     assert!(has_content(&dump.join("f000003_qs3x1a1.3333.png")));
 }
+
+/// Each frame warps by its own depth. Regression: the depth copied for the warp was also
+/// taken at the swap, after the plan had moved on, and the next frame warped its rocks by
+/// the previous frame's depth (asteroids move every frame): 18.7 dB against exact instead of
+/// 21.07 (3x3 of 210x280, frame 20; the animation is frame-driven, so the figure repeats).
+#[test]
+fn every_frame_warps_by_its_own_depth() {
+    let options = [
+        "--log",
+        "info",
+        "--mode",
+        "synth",
+        "--output",
+        "quilt",
+        "--quilt",
+        "3x3",
+        "--tile",
+        "210x280",
+        "--measure-error",
+        "20",
+        "--exit-after",
+        "20",
+    ];
+    let args = ["--backend", "osmesa", "--size", "210x280", "--frames", "20"];
+    let out = under_layer(&options, app("asteroids"), &args, &[]);
+    assert_success(&out, "asteroids --mode synth");
+    let log = stderr(&out);
+    let mean: f64 = log
+        .lines()
+        .find_map(|l| {
+            l.split("measure-error: frame 20: ")
+                .nth(1)?
+                .split("PSNR mean ")
+                .nth(1)?
+                .split(' ')
+                .next()?
+                .parse()
+                .ok()
+        })
+        .unwrap_or_else(|| panic!("no measured frame 20:\n{log}"));
+    assert!(mean >= 20.0, "asteroids: {mean} dB against exact");
+}
