@@ -6,12 +6,14 @@
 
 pub mod compose;
 pub mod dump;
+pub mod monitor;
 pub mod native;
 pub mod pass;
 pub mod png;
 pub mod staging;
 pub mod timing;
 pub mod weave;
+pub mod xrandr;
 
 use crate::config::{Output, Settings};
 use crate::gl::Gl;
