@@ -71,6 +71,19 @@ fn clear_window(gl: &Gl) {
     unsafe { gl.ClearBufferfv(COLOR, 0, black.as_ptr()) };
 }
 
+/// Clears the real default framebuffer to black.
+pub fn blank(gl: &Gl, info: crate::gl::GlInfo) -> Result<(), String> {
+    let _guard = StateGuard::new(gl, info).framebuffers().for_pass();
+    crate::output::pass::neutral_state(gl, info);
+    // SAFETY: the real default framebuffer as destination; restored by the guard.
+    unsafe {
+        gl.Disable(SCISSOR_TEST);
+        gl.BindFramebuffer(DRAW_FRAMEBUFFER, 0);
+    }
+    clear_window(gl);
+    Ok(())
+}
+
 /// Draws the quilt into the real default framebuffer (`window` pixels) as `output` asks.
 pub fn present(
     gl: &Gl,
