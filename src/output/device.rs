@@ -3,7 +3,7 @@
 //!
 //! Which monitor is decided once per process (`--monitor`, else the monitor whose EDID says
 //! Looking Glass) and said in one line, as is every reason to fall back to the program's
-//! window (no such monitor, an EGL/OSMesa program, a failure making the window).
+//! window (no such monitor, no X display, a failure making the window).
 //!
 //! **Why the program's own context, not a second one sharing with it.** Framebuffers and
 //! vertex arrays are not shared between contexts, and a second context would have to be made
@@ -14,13 +14,18 @@
 //! when the monitor is the calibration's size), swapped, and the program's drawables are made
 //! current again. Making current changes no GL state but the drawable: a context's viewport
 //! is set at its first make-current only, and `compose` restores what it touches.
+//!
+//! EGL and OSMesa contexts cannot draw into an X window of ours (an EGL display may not even
+//! be an X11 one), so for them the weave is read back and put into the window as an image
+//! (`device_image`): exact too, at the cost of a read-back per frame.
 
 use super::device_window::DeviceWindow;
 use super::monitor::{self, Monitor};
 use super::{Presenter, glx};
 use crate::config::{Output, Present, Preview, Settings};
 use crate::gl::Gl;
-use crate::log::{self, Level};
+use super::device_image::ImageWindow;
+use crate::log;
 use crate::multiview::Multiview;
 use crate::state::{Current, Platform};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -28,6 +33,7 @@ use std::sync::{Mutex, OnceLock};
 
 static FAILED: AtomicBool = AtomicBool::new(false);
 static WINDOW: Mutex<Option<DeviceWindow>> = Mutex::new(None);
+static IMAGE_WINDOW: Mutex<Option<ImageWindow>> = Mutex::new(None);
 
 /// Presents this frame: the output on the device and the preview in the program's window
 /// (`window` pixels), or the output in the program's window when there is no device.
@@ -40,10 +46,14 @@ pub fn present_frame(
     settings: &Settings,
 ) -> Result<(), String> {
     let output = settings.view.output;
-    let Some(monitor) = device_for(cur.ctx.platform, settings) else {
+    let Some(monitor) = device_for(settings) else {
         return presenter.present(gl, mv, window, output);
     };
-    if let Err(e) = on_device(gl, presenter, mv, cur, monitor, output) {
+    let shown = match cur.ctx.platform {
+        Platform::Glx => on_device(gl, presenter, mv, cur, monitor, output),
+        _ => as_image(gl, presenter, mv, monitor, output),
+    };
+    if let Err(e) = shown {
         FAILED.store(true, Ordering::Relaxed);
         log::error(format_args!(
             "--present device: {e}; presenting in the program's window from now on"
@@ -58,17 +68,8 @@ pub fn present_frame(
 }
 
 /// The device's monitor when this frame goes there.
-fn device_for(platform: Platform, settings: &Settings) -> Option<&'static Monitor> {
+fn device_for(settings: &Settings) -> Option<&'static Monitor> {
     if settings.view.present != Present::Device || FAILED.load(Ordering::Relaxed) {
-        return None;
-    }
-    static PLATFORM_SAID: AtomicBool = AtomicBool::new(false);
-    if platform != Platform::Glx {
-        log::once(
-            &PLATFORM_SAID,
-            Level::Warn,
-            format_args!("--present device: {platform:?} programs present in their own window (device windows are GLX only for now)"),
-        );
         return None;
     }
     target_monitor(settings)
@@ -145,4 +146,18 @@ fn on_device(
     glx::make_current(display, cur.binding.draw, cur.binding.read, context)
         .map_err(|e| format!("{e} (the program's drawable)"))?;
     drawn
+}
+
+/// EGL and OSMesa programs: the weave read back and put into a window of our own connection.
+fn as_image(gl: &Gl, presenter: &mut Presenter, mv: &Multiview, monitor: &Monitor, output: Output) -> Result<(), String> {
+    if output != Output::Native {
+        return Err(format!("{output:?} output is shown on the device for GLX programs only"));
+    }
+    let mut slot = IMAGE_WINDOW.lock().unwrap_or_else(|e| e.into_inner());
+    if slot.is_none() {
+        *slot = Some(ImageWindow::open(monitor.geometry)?);
+    }
+    let (rgba, size) = super::compose::woven_pixels(gl, presenter, mv)?;
+    slot.as_ref().expect("made above").show(&rgba, size);
+    Ok(())
 }

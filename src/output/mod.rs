@@ -6,6 +6,7 @@
 
 pub mod compose;
 pub mod device;
+pub mod device_image;
 pub mod device_window;
 pub mod dump;
 pub mod glx;
