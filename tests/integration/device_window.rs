@@ -151,3 +151,34 @@ fn a_quilt_on_an_egl_device_is_one_line_and_the_programs_window() {
     assert!(!windows.iter().any(|w| w.name.starts_with("holoinject")), "{windows:?}");
     assert_eq!(read_png(&dump.join("f000003_out.png")).width, 420);
 }
+
+/// A bad `--monitor` at run time: one line each, the weave in the program's window.
+fn device_refused(test: &str, monitor: &str, needles: &[&str]) {
+    require_display();
+    let dump = temp_dir(test);
+    let mut options = dump_and_exit_at(&dump, "2").to_vec();
+    options.extend(["--device", "portrait", "--monitor", monitor]);
+    let out = under_layer(&options, app("cubes"), &["--backend", "glx", "--size", "420x560", "--frames", "2"], &[]);
+    assert_success(&out, test);
+    let err = stderr(&out);
+    let lines: Vec<&str> = err.lines().filter(|l| l.contains("--present device") || l.contains("--monitor")).collect();
+    assert_eq!(lines.len(), 1, "{err}");
+    for n in needles {
+        assert!(lines[0].contains(n), "`{n}` not in {err}");
+    }
+}
+
+#[test]
+fn a_monitor_named_wrong_is_one_line_listing_the_monitors() {
+    // Xvfb's one monitor is named `screen`.
+    device_refused("device_monitor_typo", "DP-9", &["--monitor DP-9: no such monitor", "connected: screen"]);
+}
+
+#[test]
+fn a_monitor_of_another_size_than_the_calibration_is_one_line() {
+    device_refused(
+        "device_monitor_size",
+        "1000x800+0+0",
+        &["is 1000x800 but the calibration of portrait is for 1536x2048"],
+    );
+}
