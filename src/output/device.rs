@@ -19,12 +19,12 @@
 //! be an X11 one), so for them the weave is read back and put into the window as an image
 //! (`device_image`): exact too, at the cost of a read-back per frame.
 
+use super::device_image::ImageWindow;
 use super::device_window::DeviceWindow;
 use super::monitor::{self, Monitor};
 use super::{Presenter, glx};
 use crate::config::{Output, Present, Preview, Settings};
 use crate::gl::Gl;
-use super::device_image::ImageWindow;
 use crate::log;
 use crate::multiview::Multiview;
 use crate::state::{Current, Platform};
@@ -86,7 +86,9 @@ pub fn target_monitor(settings: &Settings) -> Option<&'static Monitor> {
                 Some(m)
             }
             Err(e) => {
-                log::warn(format_args!("--present device: {e}; presenting in the program's window"));
+                log::warn(format_args!(
+                    "--present device: {e}; presenting in the program's window"
+                ));
                 None
             }
         })
@@ -104,7 +106,11 @@ fn choose(settings: &Settings) -> Result<Monitor, String> {
         let seen: Vec<String> = monitors.iter().map(Monitor::describe).collect();
         format!(
             "no Looking Glass connected (monitors: {}; pick one with --monitor NAME|WxH+X+Y)",
-            if seen.is_empty() { "none".into() } else { seen.join(", ") }
+            if seen.is_empty() {
+                "none".into()
+            } else {
+                seen.join(", ")
+            }
         )
     })
 }
@@ -149,9 +155,17 @@ fn on_device(
 }
 
 /// EGL and OSMesa programs: the weave read back and put into a window of our own connection.
-fn as_image(gl: &Gl, presenter: &mut Presenter, mv: &Multiview, monitor: &Monitor, output: Output) -> Result<(), String> {
+fn as_image(
+    gl: &Gl,
+    presenter: &mut Presenter,
+    mv: &Multiview,
+    monitor: &Monitor,
+    output: Output,
+) -> Result<(), String> {
     if output != Output::Native {
-        return Err(format!("{output:?} output is shown on the device for GLX programs only"));
+        return Err(format!(
+            "{output:?} output is shown on the device for GLX programs only"
+        ));
     }
     let mut slot = IMAGE_WINDOW.lock().unwrap_or_else(|e| e.into_inner());
     if slot.is_none() {

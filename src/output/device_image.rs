@@ -34,7 +34,10 @@ impl ImageWindow {
         // SAFETY: a null name means $DISPLAY; the result is checked.
         let dpy = unsafe { (x.XOpenDisplay)(core::ptr::null()) };
         if dpy.is_null() {
-            return Err(format!("cannot open X display \"{}\"", std::env::var("DISPLAY").unwrap_or_default()));
+            return Err(format!(
+                "cannot open X display \"{}\"",
+                std::env::var("DISPLAY").unwrap_or_default()
+            ));
         }
         // SAFETY: an open display of ours.
         unsafe {
@@ -49,13 +52,31 @@ impl ImageWindow {
             attrs.override_redirect = xlib::True;
             let mask = xlib::CWOverrideRedirect | xlib::CWBackPixel | xlib::CWBorderPixel;
             let window = (x.XCreateWindow)(
-                dpy, root, rect.x, rect.y, rect.w, rect.h, 0, depth, xlib::InputOutput as u32, visual, mask, &mut attrs,
+                dpy,
+                root,
+                rect.x,
+                rect.y,
+                rect.w,
+                rect.h,
+                0,
+                depth,
+                xlib::InputOutput as u32,
+                visual,
+                mask,
+                &mut attrs,
             );
             (x.XStoreName)(dpy, window, c"holoinject: Looking Glass".as_ptr());
             (x.XMapRaised)(dpy, window);
             let gc = (x.XCreateGC)(dpy, window, 0, core::ptr::null_mut());
             (x.XSync)(dpy, xlib::False);
-            Ok(ImageWindow { x, dpy, window, visual, gc, rect })
+            Ok(ImageWindow {
+                x,
+                dpy,
+                window,
+                visual,
+                gc,
+                rect,
+            })
         }
     }
 
@@ -63,24 +84,44 @@ impl ImageWindow {
     pub fn show(&self, rgba: &[u8], size: (u32, u32)) {
         let (w, h) = (size.0.min(self.rect.w), size.1.min(self.rect.h));
         // SAFETY: reading the visual's channel masks.
-        let masks = unsafe { [(*self.visual).red_mask, (*self.visual).green_mask, (*self.visual).blue_mask] };
+        let masks = unsafe {
+            [
+                (*self.visual).red_mask,
+                (*self.visual).green_mask,
+                (*self.visual).blue_mask,
+            ]
+        };
         let mut pixels = Vec::with_capacity((w * h) as usize);
         for row in (0..size.1).rev().take(h as usize) {
             let line = &rgba[(row * size.0 * 4) as usize..][..(w * 4) as usize];
-            pixels.extend(line.chunks_exact(4).map(|p| {
-                (0..3).fold(0u32, |v, c| v | (u32::from(p[c]) << masks[c].trailing_zeros()))
-            }));
+            pixels.extend(
+                line.chunks_exact(4)
+                    .map(|p| (0..3).fold(0u32, |v, c| v | (u32::from(p[c]) << masks[c].trailing_zeros()))),
+            );
         }
         // SAFETY: an image over `pixels` (w*h 32-bit pixels) in the window's visual; its data
         // pointer is taken back before the image is freed, so Xlib never frees our vector.
         unsafe {
             let img = (self.x.XCreateImage)(
-                self.dpy, self.visual, 24, xlib::ZPixmap, 0, pixels.as_mut_ptr().cast::<c_char>(), w, h, 32, 0,
+                self.dpy,
+                self.visual,
+                24,
+                xlib::ZPixmap,
+                0,
+                pixels.as_mut_ptr().cast::<c_char>(),
+                w,
+                h,
+                32,
+                0,
             );
             if img.is_null() {
                 return;
             }
-            (*img).byte_order = if cfg!(target_endian = "little") { xlib::LSBFirst } else { xlib::MSBFirst };
+            (*img).byte_order = if cfg!(target_endian = "little") {
+                xlib::LSBFirst
+            } else {
+                xlib::MSBFirst
+            };
             (self.x.XPutImage)(self.dpy, self.window, self.gc, img, 0, 0, 0, 0, w, h);
             (*img).data = core::ptr::null_mut();
             (self.x.XDestroyImage)(img);

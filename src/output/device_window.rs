@@ -84,7 +84,18 @@ impl DeviceWindow {
                 let mask = xlib::CWOverrideRedirect | xlib::CWColormap | xlib::CWBackPixel | xlib::CWBorderPixel;
                 let (w, h) = (rect.w, rect.h);
                 let win = (x.XCreateWindow)(
-                    dpy, root, rect.x, rect.y, w, h, 0, depth, xlib::InputOutput as u32, visual, mask, &mut attrs,
+                    dpy,
+                    root,
+                    rect.x,
+                    rect.y,
+                    w,
+                    h,
+                    0,
+                    depth,
+                    xlib::InputOutput as u32,
+                    visual,
+                    mask,
+                    &mut attrs,
                 );
                 (x.XStoreName)(dpy, win, c"holoinject: Looking Glass".as_ptr());
                 (x.XMapRaised)(dpy, win);
@@ -93,5 +104,4 @@ impl DeviceWindow {
         })?;
         Ok(DeviceWindow { display, window, rect })
     }
-
 }

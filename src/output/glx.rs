@@ -45,6 +45,7 @@ pub fn make_current(display: usize, draw: usize, read: usize, context: usize) ->
 pub fn swap(display: usize, drawable: usize) {
     // SAFETY: GLX's signature; our window on the program's display.
     if let Ok(f) = unsafe { real_fn::<SwapBuffers>(c"glXSwapBuffers") } {
+        // SAFETY: the real glXSwapBuffers on our window of the program's display.
         unsafe { f(display as _, drawable) };
     }
 }

@@ -18,7 +18,16 @@ impl Xvfb {
     /// and writes its number once it accepts connections).
     pub fn start(screen: &str) -> Xvfb {
         let mut child = Command::new("Xvfb")
-            .args(["-displayfd", "1", "-nolisten", "tcp", "-noreset", "-screen", "0", screen])
+            .args([
+                "-displayfd",
+                "1",
+                "-nolisten",
+                "tcp",
+                "-noreset",
+                "-screen",
+                "0",
+                screen,
+            ])
             .stdout(Stdio::piped())
             .stderr(Stdio::null())
             .spawn()
@@ -131,7 +140,11 @@ impl XConn {
             }
             (self.x.XDestroyImage)(img);
         }
-        Image { width: w, height: h, rgb }
+        Image {
+            width: w,
+            height: h,
+            rgb,
+        }
     }
 }
 
