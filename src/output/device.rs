@@ -147,7 +147,9 @@ fn on_device(
     let win = slot.as_ref().expect("made above");
     let size = (win.rect.w, win.rect.h);
     glx::make_current(display, win.window as usize, win.window as usize, context)?;
+    std::mem::swap(&mut presenter.staging, &mut presenter.device_staging);
     let drawn = presenter.present(gl, mv, size, output);
+    std::mem::swap(&mut presenter.staging, &mut presenter.device_staging);
     glx::swap(display, win.window as usize);
     glx::make_current(display, cur.binding.draw, cur.binding.read, context)
         .map_err(|e| format!("{e} (the program's drawable)"))?;

@@ -31,6 +31,9 @@ pub struct Presenter {
     pub native: Option<native::NativeTarget>,
     /// What a multisampled window's output is drawn into first.
     pub staging: Option<staging::Staging>,
+    /// The same for the device window (`--present device`), which has another size: kept
+    /// apart so neither is remade every frame.
+    pub device_staging: Option<staging::Staging>,
 }
 
 impl Presenter {
@@ -69,6 +72,7 @@ impl Presenter {
         let mut o = LayerObjects::default();
         o.textures.extend(self.native.as_ref().map(|n| n.color));
         o.textures.extend(self.staging.as_ref().map(|s| s.color));
+        o.textures.extend(self.device_staging.as_ref().map(|s| s.color));
         o.programs.extend(self.passes.programs());
         o.without_zeros()
     }

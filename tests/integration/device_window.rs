@@ -17,6 +17,10 @@ const MONITOR: &str = "1536x2048+1920+0";
 /// cubes under the layer on `display`, frozen (every frame draws frame 0, convergence fixed:
 /// the frame on screen is the frame dumped), until killed.
 fn frozen_cubes(display: &str, dump: &Path, layer: &[&str], backend: &str) -> Child {
+    frozen_cubes_with(display, dump, layer, &["--backend", backend])
+}
+
+fn frozen_cubes_with(display: &str, dump: &Path, layer: &[&str], app_args: &[&str]) -> Child {
     let mut args = vec![
         "run",
         "--dump",
@@ -28,7 +32,8 @@ fn frozen_cubes(display: &str, dump: &Path, layer: &[&str], backend: &str) -> Ch
     ];
     args.extend_from_slice(layer);
     let app = app("cubes");
-    args.extend(["--", app.to_str().unwrap(), "--backend", backend, "--size", "420x560"]);
+    args.extend(["--", app.to_str().unwrap(), "--size", "420x560"]);
+    args.extend_from_slice(app_args);
     args.extend(["--freeze", "0", "--frames", "0"]);
     Command::new(launcher())
         .args(&args)
@@ -69,8 +74,12 @@ fn finish(child: &mut Child) -> String {
 /// Under `backend`, the device window is exactly on the monitor and shows the weave of the
 /// frame on screen.
 fn device_window_shows_the_weave(backend: &str) {
+    device_window_shows_the_weave_of(backend, &["--backend", backend]);
+}
+
+fn device_window_shows_the_weave_of(backend: &str, app_args: &[&str]) {
     let x = Xvfb::start(SCREEN);
-    let dump = temp_dir(&format!("device_window_{backend}"));
+    let dump = temp_dir(&format!("device_window_{}", app_args.join("_").replace('-', "")));
     let layer = [
         "--device",
         "portrait",
@@ -81,7 +90,7 @@ fn device_window_shows_the_weave(backend: &str) {
         "--log",
         "info",
     ];
-    let mut cubes = frozen_cubes(&x.display, &dump, &layer, backend);
+    let mut cubes = frozen_cubes_with(&x.display, &dump, &layer, app_args);
     wait_for_frame_3(&mut cubes, &dump);
     let conn = XConn::open(&x.display);
     let windows = conn.top_levels();
@@ -147,6 +156,13 @@ fn device_window_shows_the_weave(backend: &str) {
 #[test]
 fn glx_device_window_sits_on_the_monitor_and_shows_the_weave() {
     device_window_shows_the_weave("glx");
+}
+
+/// A multisampled window: the device window has its visual, so the output goes through a
+/// staging image of the monitor's size there (kept apart from the program window's).
+#[test]
+fn glx_multisampled_device_window_shows_the_weave() {
+    device_window_shows_the_weave_of("glx", &["--backend", "glx", "--samples", "4"]);
 }
 
 #[test]
