@@ -1,5 +1,7 @@
 //! Presenting: the quilt becomes what the window shows (quilt, lenticular weave, side by
 //! side, anaglyph, the centre view), frames are dumped as PNGs, frame times are measured.
+//! With `--present device` the output goes to the layer's own window on the Looking Glass
+//! monitor (`device`, found by `monitor`) and the program's window shows the preview.
 //! The order of things at the frame boundary is `hook::frame`'s; this module provides the
 //! steps. [`Presenter`] is its per-context data: our full-screen passes and the
 //! native-resolution weave target.
