@@ -23,6 +23,7 @@ use super::device_image::ImageWindow;
 use super::device_window::DeviceWindow;
 use super::monitor::{self, Monitor};
 use super::{Presenter, glx};
+use crate::config::parse::MonitorSpec;
 use crate::config::{Output, Present, Preview, Settings};
 use crate::gl::Gl;
 use crate::log;
@@ -97,9 +98,14 @@ pub fn target_monitor(settings: &Settings) -> Option<&'static Monitor> {
 
 fn choose(settings: &Settings) -> Result<Monitor, String> {
     let detected = monitor::detect();
-    if let Some(spec) = &settings.view.monitor {
-        // A rectangle given by hand needs no server answer.
-        return monitor::select(spec, detected.as_deref().unwrap_or(&[]));
+    match (&settings.view.monitor, &detected) {
+        // A rectangle given by hand needs no server answer; a name does.
+        (Some(spec @ MonitorSpec::Geometry { .. }), _) => {
+            return monitor::select(spec, detected.as_deref().unwrap_or(&[]));
+        }
+        (Some(MonitorSpec::Name(n)), Err(e)) => return Err(format!("--monitor {n}: {e}")),
+        (Some(spec), Ok(found)) => return monitor::select(spec, found),
+        (None, _) => {}
     }
     let monitors = detected?;
     monitor::find_looking_glass(&monitors).cloned().ok_or_else(|| {
