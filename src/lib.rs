@@ -56,7 +56,9 @@
 //! `glXSwapBuffers`/`eglSwapBuffers` (or `glFinish` for OSMesa) reach `hook::frame`: the
 //! frame is numbered, a multisampled quilt is resolved (as the window resolves at its
 //! swap), `output::Presenter` draws the quilt into the real framebuffer 0 as
-//! `--output` asks (and dumps the quilt and weave), the presented image is dumped, the real
+//! `--output` asks (with `--present device`, into the layer's own window on the Looking
+//! Glass monitor first, and the `--preview` into the program's window: `output::device`;
+//! and dumps the quilt and weave), the presented image is dumped, the real
 //! swap runs, then `multiview` estimates auto-convergence from the scene's depth (copied from
 //! the centre view of the framebuffer the main camera draws into, before anything overwrote
 //! it: `multiview::scene`) and resizes the quilt if the window changed; `--exit-after` ends

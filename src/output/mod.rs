@@ -1,17 +1,25 @@
 //! Presenting: the quilt becomes what the window shows (quilt, lenticular weave, side by
 //! side, anaglyph, the centre view), frames are dumped as PNGs, frame times are measured.
+//! With `--present device` the output goes to the layer's own window on the Looking Glass
+//! monitor (`device`, found by `monitor`) and the program's window shows the preview.
 //! The order of things at the frame boundary is `hook::frame`'s; this module provides the
 //! steps. [`Presenter`] is its per-context data: our full-screen passes and the
 //! native-resolution weave target.
 
 pub mod compose;
+pub mod device;
+pub mod device_image;
+pub mod device_window;
 pub mod dump;
+pub mod glx;
+pub mod monitor;
 pub mod native;
 pub mod pass;
 pub mod png;
 pub mod staging;
 pub mod timing;
 pub mod weave;
+pub mod xrandr;
 
 use crate::config::{Output, Settings};
 use crate::gl::Gl;
@@ -25,6 +33,9 @@ pub struct Presenter {
     pub native: Option<native::NativeTarget>,
     /// What a multisampled window's output is drawn into first.
     pub staging: Option<staging::Staging>,
+    /// The same for the device window (`--present device`), which has another size: kept
+    /// apart so neither is remade every frame.
+    pub device_staging: Option<staging::Staging>,
 }
 
 impl Presenter {
@@ -32,6 +43,11 @@ impl Presenter {
     /// asks; all GL state touched is restored.
     pub fn present(&mut self, gl: &Gl, mv: &Multiview, window: (u32, u32), output: Output) -> Result<(), String> {
         compose::present(gl, self, mv, window, output)
+    }
+
+    /// The program's window left black (`--preview off`); all GL state touched is restored.
+    pub fn blank(&mut self, gl: &Gl, info: crate::gl::GlInfo) -> Result<(), String> {
+        compose::blank(gl, info)
     }
 
     /// The quilt and, after a native present, the weave, as PNGs of frame `frame`.
@@ -58,6 +74,7 @@ impl Presenter {
         let mut o = LayerObjects::default();
         o.textures.extend(self.native.as_ref().map(|n| n.color));
         o.textures.extend(self.staging.as_ref().map(|s| s.color));
+        o.textures.extend(self.device_staging.as_ref().map(|s| s.color));
         o.programs.extend(self.passes.programs());
         o.without_zeros()
     }
