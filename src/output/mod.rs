@@ -6,9 +6,12 @@
 
 pub mod compose;
 pub mod dump;
+pub mod encoder;
 pub mod native;
 pub mod pass;
 pub mod png;
+pub mod quilt_name;
+pub mod record;
 pub mod staging;
 pub mod timing;
 pub mod weave;
@@ -25,6 +28,8 @@ pub struct Presenter {
     pub native: Option<native::NativeTarget>,
     /// What a multisampled window's output is drawn into first.
     pub staging: Option<staging::Staging>,
+    /// `--record`: this context's read-back buffers, when it records.
+    pub recorder: record::Recorder,
 }
 
 impl Presenter {
@@ -59,6 +64,7 @@ impl Presenter {
         o.textures.extend(self.native.as_ref().map(|n| n.color));
         o.textures.extend(self.staging.as_ref().map(|s| s.color));
         o.programs.extend(self.passes.programs());
+        o.buffers.extend(self.recorder.buffers());
         o.without_zeros()
     }
 }
