@@ -1,6 +1,9 @@
 //! The launcher: parse, check, set the environment, `exec`. All option knowledge lives in
 //! `holoinject::config` so the layer and the launcher cannot disagree.
 
+#[path = "holoinject/quilt.rs"]
+mod quilt;
+
 use holoinject::config::cli::{self, Launch};
 use holoinject::config::preset;
 use std::ffi::{CString, OsString};
@@ -21,6 +24,7 @@ fn run() -> Result<(), String> {
         Some("run") if args.get(1).is_some_and(|a| a == "--help" || a == "-h") => print_help(),
         Some("run") => launch(cli::parse_run(&args[1..])?),
         Some("presets") => list_presets(),
+        Some("quilt") => quilt::run(&args[1..]),
         Some("--version" | "-V") => {
             println!("holoinject {}", env!("CARGO_PKG_VERSION"));
             Ok(())

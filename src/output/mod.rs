@@ -10,6 +10,7 @@ pub mod encoder;
 pub mod native;
 pub mod pass;
 pub mod png;
+pub mod quilt_file;
 pub mod quilt_name;
 pub mod record;
 pub mod staging;

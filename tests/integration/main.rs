@@ -24,3 +24,4 @@ mod reuse;
 mod sample_apps;
 mod synthesis;
 mod synthesis_pixel;
+mod tools;
