@@ -1,6 +1,14 @@
 //! The launcher: parse, check, set the environment, `exec`. All option knowledge lives in
 //! `holoinject::config` so the layer and the launcher cannot disagree.
 
+#[path = "holoinject/checks.rs"]
+mod checks;
+#[path = "holoinject/doctor.rs"]
+mod doctor;
+#[path = "holoinject/probe.rs"]
+mod probe;
+#[path = "holoinject/probe_context.rs"]
+mod probe_context;
 #[path = "holoinject/quilt.rs"]
 mod quilt;
 
@@ -25,6 +33,8 @@ fn run() -> Result<(), String> {
         Some("run") => launch(cli::parse_run(&args[1..])?),
         Some("presets") => list_presets(),
         Some("quilt") => quilt::run(&args[1..]),
+        Some("doctor") => doctor::run(&args[1..]),
+        Some("__probe") => probe::run(&args[1..]),
         Some("--version" | "-V") => {
             println!("holoinject {}", env!("CARGO_PKG_VERSION"));
             Ok(())
