@@ -121,3 +121,26 @@ fn offline_weave_refuses_unknown_layouts_and_devices() {
     assert_success(&r, "a 4x2 quilt of 1-pixel tiles");
     assert_eq!(read_png(&out_png).width, 1440);
 }
+
+#[test]
+fn doctor_passes_here_and_names_what_breaks() {
+    require_display();
+    let ok = run(&launcher(), &["doctor", "--device", "portrait", "--", "glxgears"], &[]);
+    let text = String::from_utf8_lossy(&ok.stdout).into_owned();
+    assert_success(&ok, &format!("doctor on this machine:\n{text}"));
+    for check in ["layer:", "glx:", "egl:", "osmesa:", "calibration:", "program:", "preload:", "record:"] {
+        assert!(text.lines().any(|l| l.starts_with("ok") && l.contains(check)), "{check} not ok:\n{text}");
+    }
+    // A missing layer library, and a device that does not exist: non-zero, the line named.
+    let missing = run(&launcher(), &["doctor"], &[("HOLOINJECT_LIB", "/nonexistent/libholoinject.so")]);
+    let text = String::from_utf8_lossy(&missing.stdout).into_owned();
+    assert!(!missing.status.success(), "{text}");
+    assert!(text.lines().any(|l| l.starts_with("fail  layer:") && l.contains("fix:")), "{text}");
+    let bad = run(&launcher(), &["doctor", "--device", "nope"], &[]);
+    let text = String::from_utf8_lossy(&bad.stdout).into_owned();
+    assert!(!bad.status.success(), "{text}");
+    let fails: Vec<&str> = text.lines().filter(|l| l.starts_with("fail")).collect();
+    assert_eq!(fails.len(), 1, "{text}");
+    assert!(fails[0].starts_with("fail  calibration: --device nope"), "{text}");
+    assert!(stderr(&bad).contains("1 check(s) failed"), "{}", stderr(&bad));
+}
