@@ -58,6 +58,23 @@ pub enum Output {
     Mono,
 }
 
+/// Where the output is shown (`--present`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Present {
+    /// In the layer's own borderless window covering the Looking Glass monitor.
+    Device,
+    /// In the program's own window.
+    Window,
+}
+
+/// What the program's own window shows while the output goes to the device (`--preview`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Preview {
+    Mono,
+    Quilt,
+    Off,
+}
+
 /// Which of the app's framebuffers get layered shadows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum FboViews {
@@ -133,6 +150,11 @@ impl WeaveFilter {
 #[derive(Clone, Debug, PartialEq)]
 pub struct ViewSettings {
     pub output: Output,
+    /// Default: `Device` with native output, else `Window`.
+    pub present: Present,
+    pub preview: Preview,
+    /// `--monitor`: the device's monitor chosen by hand (else found by its EDID name).
+    pub monitor: Option<parse::MonitorSpec>,
     pub quilt: (u32, u32),
     pub tile: Option<(u32, u32)>,
     pub device: Option<device::Device>,
@@ -169,7 +191,7 @@ pub enum SynthWarp {
 impl ViewSettings {
     /// What was given explicitly wins; otherwise the device's quilt and native output, else
     /// 8x6 tiles of the window's size and the quilt itself as output.
-    fn resolve(&mut self, quilt: Option<(u32, u32)>, tile: Option<(u32, u32)>, output: Option<Output>) {
+    fn resolve(&mut self, quilt: Option<(u32, u32)>, tile: Option<(u32, u32)>, output: Option<Output>, present: Option<Present>) {
         let dev = self.device.as_ref().map(|d| d.quilt);
         self.quilt = quilt.or(dev.map(|q| (q.columns, q.rows))).unwrap_or((8, 6));
         self.tile = tile.or(dev.filter(|_| quilt.is_none()).map(|q| (q.tile_width, q.tile_height)));
@@ -177,6 +199,11 @@ impl ViewSettings {
             Output::Native
         } else {
             Output::Quilt
+        });
+        self.present = present.unwrap_or(if self.output == Output::Native {
+            Present::Device
+        } else {
+            Present::Window
         });
     }
 }
@@ -197,6 +224,9 @@ impl Default for ViewSettings {
     fn default() -> Self {
         ViewSettings {
             output: Output::Quilt,
+            present: Present::Window,
+            preview: Preview::Mono,
+            monitor: None,
             quilt: (8, 6),
             tile: None,
             device: None,
@@ -262,7 +292,7 @@ impl Settings {
         report: &mut dyn FnMut(String),
     ) -> Settings {
         let mut s = Settings::default();
-        let (mut quilt, mut tile, mut output, mut budget) = (None, None, None, None);
+        let (mut quilt, mut tile, mut output, mut budget, mut present) = (None, None, None, None, None);
         // The preset itself was chosen (and any problem with it reported) by the caller.
         for opt in options::OPTIONS
             .iter()
@@ -289,6 +319,9 @@ impl Settings {
                 "exit-after" => s.exit_after = parse::frame_number(&value).ok(),
                 "osmesa-boundary" => s.osmesa_boundary = parse::boundary(&value).unwrap_or(Boundary::Finish),
                 "output" => output = parse::output(&value).ok(),
+                "present" => present = parse::present(&value).ok(),
+                "preview" => s.view.preview = parse::preview(&value).unwrap_or(Preview::Mono),
+                "monitor" => s.view.monitor = parse::monitor(&value).ok(),
                 "quilt" => quilt = parse::quilt(&value).ok(),
                 "tile" => tile = parse::grid(&value).ok(),
                 "device" => s.view.device = device::load(&value).ok(),
@@ -312,7 +345,7 @@ impl Settings {
             report(format!("HOLOINJECT_REUSE: {e}; ignored"));
             s.view.reuse = false;
         }
-        s.view.resolve(quilt, tile, output);
+        s.view.resolve(quilt, tile, output, present);
         s.view.apply_budget(budget, report);
         s
     }

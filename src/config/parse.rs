@@ -111,6 +111,59 @@ pub fn output(v: &str) -> Result<Output, String> {
     }
 }
 
+/// `--monitor`: a monitor by name, or a rectangle of the X screen given by hand.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum MonitorSpec {
+    /// A RandR monitor, output or EDID name (`HDMI-1`, `LKG-P…`).
+    Name(String),
+    Geometry { w: u32, h: u32, x: i32, y: i32 },
+}
+
+/// `NAME` or `WxH+X+Y` (X and Y may be negative: `-1920+0` or `+-1920+0`).
+pub fn monitor(v: &str) -> Result<MonitorSpec, String> {
+    let v = v.trim();
+    if v.is_empty() {
+        return Err("expected a monitor name or WxH+X+Y".into());
+    }
+    let size_end = v.find(['+', '-']).unwrap_or(v.len());
+    let size = &v[..size_end];
+    // A name such as `HDMI-1` or `LKG-P…` is not a size.
+    if !size.contains('x') || !size.split('x').all(|d| !d.is_empty() && d.bytes().all(|b| b.is_ascii_digit())) {
+        return Ok(MonitorSpec::Name(v.to_string()));
+    }
+    let bad = || format!("`{v}`: expected WxH+X+Y, e.g. 1536x2048+1920+0");
+    let (w, h) = grid(size).map_err(|_| bad())?;
+    let (x, y) = offsets(&v[size_end..]).ok_or_else(bad)?;
+    Ok(MonitorSpec::Geometry { w, h, x, y })
+}
+
+/// `+X+Y` as X11 geometry writes it: each offset starts at a sign, `+-N` is `-N`.
+fn offsets(s: &str) -> Option<(i32, i32)> {
+    let b = s.as_bytes();
+    let split = (1..b.len()).find(|&i| matches!(b[i], b'+' | b'-') && b[i - 1].is_ascii_digit())?;
+    // `str::parse::<i32>` takes `-N` and `+N` but not `+-N`.
+    let one = |t: &str| t.strip_prefix('+').filter(|t| t.starts_with('-')).unwrap_or(t).parse::<i32>().ok();
+    (s.starts_with(['+', '-'])).then_some(())?;
+    Some((one(&s[..split])?, one(&s[split..])?))
+}
+
+pub fn present(v: &str) -> Result<super::Present, String> {
+    match v.trim() {
+        "device" => Ok(super::Present::Device),
+        "window" => Ok(super::Present::Window),
+        _ => Err(format!("`{v}`: expected device|window")),
+    }
+}
+
+pub fn preview(v: &str) -> Result<super::Preview, String> {
+    match v.trim() {
+        "mono" => Ok(super::Preview::Mono),
+        "quilt" => Ok(super::Preview::Quilt),
+        "off" => Ok(super::Preview::Off),
+        _ => Err(format!("`{v}`: expected mono|quilt|off")),
+    }
+}
+
 pub fn weave_filter(v: &str) -> Result<super::WeaveFilter, String> {
     use super::WeaveFilter as Filter;
     match v.trim() {
@@ -235,6 +288,19 @@ mod tests {
         assert!(record_path("run.mp4").is_ok() && record_path("a/b.MKV").is_ok());
         assert!(record_path("run.png").unwrap_err().contains(".mp4"));
         assert!(record_path(" ").is_err());
+    }
+
+    #[test]
+    fn monitor_is_a_name_or_x11_geometry() {
+        let g = |w, h, x, y| Ok(MonitorSpec::Geometry { w, h, x, y });
+        assert_eq!(monitor("1536x2048+1920+0"), g(1536, 2048, 1920, 0));
+        assert_eq!(monitor("800x600-800+0"), g(800, 600, -800, 0));
+        assert_eq!(monitor("800x600+-800-10"), g(800, 600, -800, -10));
+        assert_eq!(monitor("HDMI-1"), Ok(MonitorSpec::Name("HDMI-1".into())));
+        assert_eq!(monitor("LKG-P00123"), Ok(MonitorSpec::Name("LKG-P00123".into())));
+        for bad in ["1536x2048", "1536x2048+1920", "0x2048+0+0", "1536x2048+a+0", "1536x2048++0+0", " "] {
+            assert!(monitor(bad).is_err(), "{bad}");
+        }
     }
 
     #[test]

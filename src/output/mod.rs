@@ -7,6 +7,7 @@
 pub mod compose;
 pub mod dump;
 pub mod encoder;
+pub mod monitor;
 pub mod native;
 pub mod pass;
 pub mod png;
@@ -16,6 +17,7 @@ pub mod record;
 pub mod staging;
 pub mod timing;
 pub mod weave;
+pub mod xrandr;
 
 use crate::config::{Output, Settings};
 use crate::gl::Gl;
