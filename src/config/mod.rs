@@ -191,7 +191,13 @@ pub enum SynthWarp {
 impl ViewSettings {
     /// What was given explicitly wins; otherwise the device's quilt and native output, else
     /// 8x6 tiles of the window's size and the quilt itself as output.
-    fn resolve(&mut self, quilt: Option<(u32, u32)>, tile: Option<(u32, u32)>, output: Option<Output>, present: Option<Present>) {
+    fn resolve(
+        &mut self,
+        quilt: Option<(u32, u32)>,
+        tile: Option<(u32, u32)>,
+        output: Option<Output>,
+        present: Option<Present>,
+    ) {
         let dev = self.device.as_ref().map(|d| d.quilt);
         self.quilt = quilt.or(dev.map(|q| (q.columns, q.rows))).unwrap_or((8, 6));
         self.tile = tile.or(dev.filter(|_| quilt.is_none()).map(|q| (q.tile_width, q.tile_height)));

@@ -116,7 +116,12 @@ pub fn output(v: &str) -> Result<Output, String> {
 pub enum MonitorSpec {
     /// A RandR monitor, output or EDID name (`HDMI-1`, `LKG-P…`).
     Name(String),
-    Geometry { w: u32, h: u32, x: i32, y: i32 },
+    Geometry {
+        w: u32,
+        h: u32,
+        x: i32,
+        y: i32,
+    },
 }
 
 /// `NAME` or `WxH+X+Y` (X and Y may be negative: `-1920+0` or `+-1920+0`).
@@ -128,7 +133,11 @@ pub fn monitor(v: &str) -> Result<MonitorSpec, String> {
     let size_end = v.find(['+', '-']).unwrap_or(v.len());
     let size = &v[..size_end];
     // A name such as `HDMI-1` or `LKG-P…` is not a size.
-    if !size.contains('x') || !size.split('x').all(|d| !d.is_empty() && d.bytes().all(|b| b.is_ascii_digit())) {
+    if !size.contains('x')
+        || !size
+            .split('x')
+            .all(|d| !d.is_empty() && d.bytes().all(|b| b.is_ascii_digit()))
+    {
         return Ok(MonitorSpec::Name(v.to_string()));
     }
     let bad = || format!("`{v}`: expected WxH+X+Y, e.g. 1536x2048+1920+0");
@@ -142,7 +151,13 @@ fn offsets(s: &str) -> Option<(i32, i32)> {
     let b = s.as_bytes();
     let split = (1..b.len()).find(|&i| matches!(b[i], b'+' | b'-') && b[i - 1].is_ascii_digit())?;
     // `str::parse::<i32>` takes `-N` and `+N` but not `+-N`.
-    let one = |t: &str| t.strip_prefix('+').filter(|t| t.starts_with('-')).unwrap_or(t).parse::<i32>().ok();
+    let one = |t: &str| {
+        t.strip_prefix('+')
+            .filter(|t| t.starts_with('-'))
+            .unwrap_or(t)
+            .parse::<i32>()
+            .ok()
+    };
     (s.starts_with(['+', '-'])).then_some(())?;
     Some((one(&s[..split])?, one(&s[split..])?))
 }
@@ -248,7 +263,10 @@ pub fn nonempty(v: &str) -> Result<(), String> {
 /// `.mkv` or `.mov`.
 pub fn record_path(v: &str) -> Result<(), String> {
     nonempty(v)?;
-    let ext = std::path::Path::new(v).extension().and_then(|e| e.to_str()).unwrap_or("");
+    let ext = std::path::Path::new(v)
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("");
     match ext.to_ascii_lowercase().as_str() {
         "mp4" | "mkv" | "mov" => Ok(()),
         _ => Err("expected a video file name ending in .mp4 (or .mkv, .mov)".into()),
@@ -298,7 +316,14 @@ mod tests {
         assert_eq!(monitor("800x600+-800-10"), g(800, 600, -800, -10));
         assert_eq!(monitor("HDMI-1"), Ok(MonitorSpec::Name("HDMI-1".into())));
         assert_eq!(monitor("LKG-P00123"), Ok(MonitorSpec::Name("LKG-P00123".into())));
-        for bad in ["1536x2048", "1536x2048+1920", "0x2048+0+0", "1536x2048+a+0", "1536x2048++0+0", " "] {
+        for bad in [
+            "1536x2048",
+            "1536x2048+1920",
+            "0x2048+0+0",
+            "1536x2048+a+0",
+            "1536x2048++0+0",
+            " ",
+        ] {
             assert!(monitor(bad).is_err(), "{bad}");
         }
     }

@@ -20,7 +20,12 @@ pub fn create(gl: &Gl, bytes: usize) -> u32 {
         gl.GetIntegerv(super::PIXEL_PACK_BUFFER_BINDING, &mut bound);
         gl.GenBuffers(1, &mut pbo);
         gl.BindBuffer(super::PIXEL_PACK_BUFFER, pbo);
-        gl.BufferData(super::PIXEL_PACK_BUFFER, bytes as isize, std::ptr::null(), super::STREAM_READ);
+        gl.BufferData(
+            super::PIXEL_PACK_BUFFER,
+            bytes as isize,
+            std::ptr::null(),
+            super::STREAM_READ,
+        );
         gl.BindBuffer(super::PIXEL_PACK_BUFFER, bound as u32);
     }
     pbo
@@ -39,7 +44,15 @@ pub fn start_read(gl: &Gl, info: GlInfo, fbo: u32, rect: [i32; 4], pbo: u32) {
         for &(p, _) in &guard.pack {
             gl.PixelStorei(p, if p == PACK_ALIGNMENT { 1 } else { 0 });
         }
-        gl.ReadPixels(rect[0], rect[1], rect[2], rect[3], RGBA, UNSIGNED_BYTE, std::ptr::null_mut());
+        gl.ReadPixels(
+            rect[0],
+            rect[1],
+            rect[2],
+            rect[3],
+            RGBA,
+            UNSIGNED_BYTE,
+            std::ptr::null_mut(),
+        );
     }
     drop(guard);
 }

@@ -59,12 +59,32 @@ pub fn ffmpeg_args(out: &Path, size: (u32, u32), fps: f64) -> Vec<String> {
     let rate = format!("{}/1000", (fps * 1000.0).round().max(1.0) as u64);
     let s = |v: &str| v.to_string();
     vec![
-        s("-hide_banner"), s("-loglevel"), s("error"), s("-y"),
-        s("-f"), s("rawvideo"), s("-pix_fmt"), s("rgba"),
-        s("-s"), format!("{}x{}", size.0, size.1), s("-framerate"), rate, s("-i"), s("-"),
-        s("-vf"), s("vflip,pad=ceil(iw/2)*2:ceil(ih/2)*2:0:oh-ih"),
-        s("-c:v"), s("libx264"), s("-preset"), s("ultrafast"), s("-crf"), s("18"),
-        s("-pix_fmt"), s("yuv420p"), s("-movflags"), s("+faststart"),
+        s("-hide_banner"),
+        s("-loglevel"),
+        s("error"),
+        s("-y"),
+        s("-f"),
+        s("rawvideo"),
+        s("-pix_fmt"),
+        s("rgba"),
+        s("-s"),
+        format!("{}x{}", size.0, size.1),
+        s("-framerate"),
+        rate,
+        s("-i"),
+        s("-"),
+        s("-vf"),
+        s("vflip,pad=ceil(iw/2)*2:ceil(ih/2)*2:0:oh-ih"),
+        s("-c:v"),
+        s("libx264"),
+        s("-preset"),
+        s("ultrafast"),
+        s("-crf"),
+        s("18"),
+        s("-pix_fmt"),
+        s("yuv420p"),
+        s("-movflags"),
+        s("+faststart"),
         out.to_string_lossy().into_owned(),
     ]
 }
@@ -171,7 +191,10 @@ impl Encoder {
 /// Rewrites `path`'s timestamps for `fps` (a stream copy: nothing is encoded again); returns
 /// the rate the file now has.
 fn retime(path: &Path, encoded: f64, fps: f64) -> Result<f64, String> {
-    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
     let tmp = path.with_file_name(format!(".retime-{name}"));
     let status = Command::new(find_ffmpeg()?)
         .args(["-hide_banner", "-loglevel", "error", "-y", "-itsscale"])
@@ -187,7 +210,9 @@ fn retime(path: &Path, encoded: f64, fps: f64) -> Result<f64, String> {
         .map_err(|e| format!("ffmpeg (re-timing): {e}"))?;
     if !status.success() {
         let _ = std::fs::remove_file(&tmp);
-        return Err(format!("re-timing to {fps:.2} fps failed ({status}); the file keeps {encoded:.2} fps"));
+        return Err(format!(
+            "re-timing to {fps:.2} fps failed ({status}); the file keeps {encoded:.2} fps"
+        ));
     }
     std::fs::rename(&tmp, path).map_err(|e| format!("{}: {e}", path.display()))?;
     Ok(fps)

@@ -60,7 +60,11 @@ impl Monitor {
 
     /// One line for logs and `holoinject doctor`: `HDMI-1 "LKG-P" 1536x2048+1920+0`.
     pub fn describe(&self) -> String {
-        let edid = self.edid_name.as_deref().map(|n| format!(" \"{n}\"")).unwrap_or_default();
+        let edid = self
+            .edid_name
+            .as_deref()
+            .map(|n| format!(" \"{n}\""))
+            .unwrap_or_default();
         format!("{}{edid} {}", self.name, self.geometry)
     }
 }
@@ -105,13 +109,26 @@ pub fn select(spec: &MonitorSpec, monitors: &[Monitor]) -> Result<Monitor, Strin
     match spec {
         MonitorSpec::Geometry { w, h, x, y } => Ok(monitors
             .iter()
-            .find(|m| m.geometry == Rect { x: *x, y: *y, w: *w, h: *h })
+            .find(|m| {
+                m.geometry
+                    == Rect {
+                        x: *x,
+                        y: *y,
+                        w: *w,
+                        h: *h,
+                    }
+            })
             .cloned()
             .unwrap_or_else(|| Monitor {
                 name: "--monitor".into(),
                 outputs: vec![],
                 edid_name: None,
-                geometry: Rect { x: *x, y: *y, w: *w, h: *h },
+                geometry: Rect {
+                    x: *x,
+                    y: *y,
+                    w: *w,
+                    h: *h,
+                },
                 primary: false,
             })),
         MonitorSpec::Name(name) => monitors
@@ -120,7 +137,10 @@ pub fn select(spec: &MonitorSpec, monitors: &[Monitor]) -> Result<Monitor, Strin
             .cloned()
             .ok_or_else(|| {
                 let known: Vec<String> = monitors.iter().map(Monitor::describe).collect();
-                format!("--monitor {name}: no such monitor (connected: {})", list_or_none(&known))
+                format!(
+                    "--monitor {name}: no such monitor (connected: {})",
+                    list_or_none(&known)
+                )
             }),
     }
 }
@@ -132,7 +152,11 @@ fn names_of(m: &Monitor) -> impl Iterator<Item = &str> {
 }
 
 fn list_or_none(items: &[String]) -> String {
-    if items.is_empty() { "none".into() } else { items.join(", ") }
+    if items.is_empty() {
+        "none".into()
+    } else {
+        items.join(", ")
+    }
 }
 
 /// The first monitor that reports a Looking Glass name.

@@ -15,7 +15,8 @@ pub struct QuiltTag {
 
 /// Finds `qs{C}x{R}a{aspect}` in a file name (the last one, if several).
 pub fn parse(name: &str) -> Option<QuiltTag> {
-    name.rmatch_indices("qs").find_map(|(i, _)| parse_at(&name[i + 2..]).map(|(t, _)| t))
+    name.rmatch_indices("qs")
+        .find_map(|(i, _)| parse_at(&name[i + 2..]).map(|(t, _)| t))
 }
 
 /// `{C}x{R}a{aspect}` at the start of `s`, and how many bytes it took.
@@ -68,7 +69,10 @@ mod tests {
     #[test]
     fn names_get_the_tag_once() {
         let tag = "qs8x6a0.75";
-        assert_eq!(with_tag(Path::new("/v/run.mp4"), tag), ("/v/run_qs8x6a0.75.mp4".into(), true));
+        assert_eq!(
+            with_tag(Path::new("/v/run.mp4"), tag),
+            ("/v/run_qs8x6a0.75.mp4".into(), true)
+        );
         assert_eq!(
             with_tag(Path::new("/v/run_qs8x6a0.75.mp4"), tag),
             ("/v/run_qs8x6a0.75.mp4".into(), false)
@@ -79,6 +83,9 @@ mod tests {
             ("run_qs8x6a0.75.mp4".into(), true)
         );
         // "qs" inside the name is not a tag.
-        assert_eq!(with_tag(Path::new("qsort.mp4"), tag), ("qsort_qs8x6a0.75.mp4".into(), true));
+        assert_eq!(
+            with_tag(Path::new("qsort.mp4"), tag),
+            ("qsort_qs8x6a0.75.mp4".into(), true)
+        );
     }
 }

@@ -112,7 +112,9 @@ impl Recorder {
                 ));
                 *ENCODER.lock().unwrap_or_else(|e| e.into_inner()) = Some(enc);
                 register_exit_handler();
-                self.pbos = (0..2).map(|_| pbo::create(gl, size.0 as usize * size.1 as usize * 4)).collect();
+                self.pbos = (0..2)
+                    .map(|_| pbo::create(gl, size.0 as usize * size.1 as usize * 4))
+                    .collect();
                 self.layout = Some(layout);
                 self.state = State::Recording;
             }
@@ -168,7 +170,9 @@ impl Recorder {
             Ok(false) => log::once(
                 &DROP_WARNED,
                 Level::Warn,
-                format_args!("--record: the encoder is slower than the program: frames are dropped (counted at the end)"),
+                format_args!(
+                    "--record: the encoder is slower than the program: frames are dropped (counted at the end)"
+                ),
             ),
             Err(e) => {
                 drop(guard);

@@ -18,7 +18,10 @@ pub struct RawMonitor {
 
 /// A monitor from the server's answer: the EDID name of the first output that has one.
 pub fn from_raw(raw: RawMonitor) -> Monitor {
-    let edid_name = raw.outputs.iter().find_map(|(_, e)| e.as_deref().and_then(edid_monitor_name));
+    let edid_name = raw
+        .outputs
+        .iter()
+        .find_map(|(_, e)| e.as_deref().and_then(edid_monitor_name));
     Monitor {
         name: raw.name,
         outputs: raw.outputs.into_iter().map(|(n, _)| n).collect(),
@@ -85,8 +88,19 @@ impl Conn {
         // SAFETY: reads up to 128 32-bit units (an EDID with 3 extensions); freed below.
         let status = unsafe {
             (self.r.XRRGetOutputProperty)(
-                self.dpy, output, atom, 0, 128, xlib::False, xlib::False, xlib::AnyPropertyType as u64,
-                &mut ty, &mut format, &mut n, &mut after, &mut data,
+                self.dpy,
+                output,
+                atom,
+                0,
+                128,
+                xlib::False,
+                xlib::False,
+                xlib::AnyPropertyType as u64,
+                &mut ty,
+                &mut format,
+                &mut n,
+                &mut after,
+                &mut data,
             )
         };
         if status != 0 || data.is_null() {
@@ -134,12 +148,26 @@ pub fn monitors() -> Result<Vec<Monitor>, String> {
             let ids = unsafe { std::slice::from_raw_parts(m.outputs, m.noutput.max(0) as usize) };
             let outputs = ids
                 .iter()
-                .map(|&o| (if res.is_null() { format!("output {o:#x}") } else { conn.output_name(res, o) }, conn.edid(o)))
+                .map(|&o| {
+                    (
+                        if res.is_null() {
+                            format!("output {o:#x}")
+                        } else {
+                            conn.output_name(res, o)
+                        },
+                        conn.edid(o),
+                    )
+                })
                 .collect();
             out.push(from_raw(RawMonitor {
                 name: conn.atom_name(m.name),
                 outputs,
-                geometry: Rect { x: m.x, y: m.y, w: m.width.max(0) as u32, h: m.height.max(0) as u32 },
+                geometry: Rect {
+                    x: m.x,
+                    y: m.y,
+                    w: m.width.max(0) as u32,
+                    h: m.height.max(0) as u32,
+                },
                 primary: m.primary != 0,
             }));
         }

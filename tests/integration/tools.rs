@@ -27,7 +27,10 @@ fn video_frames(path: &Path) -> u64 {
         .arg(path)
         .output()
         .expect("ffprobe runs (apt install ffmpeg)");
-    String::from_utf8_lossy(&out.stdout).trim().parse().expect("ffprobe counted frames")
+    String::from_utf8_lossy(&out.stdout)
+        .trim()
+        .parse()
+        .expect("ffprobe counted frames")
 }
 
 /// H.264 (x264 ultrafast, crf 18, 4:2:0) of the cubes quilt against the dumped PNG: measured
@@ -41,10 +44,23 @@ fn recording_holds_the_dumped_quilts() {
     let dump = dir.join("dump");
     let video = dir.join("cubes.mp4");
     let layer = [
-        "--quilt", "3x2", "--record", video.to_str().unwrap(), "--dump", dump.to_str().unwrap(),
-        "--dump-frames", "12,40", "--exit-after", "40",
+        "--quilt",
+        "3x2",
+        "--record",
+        video.to_str().unwrap(),
+        "--dump",
+        dump.to_str().unwrap(),
+        "--dump-frames",
+        "12,40",
+        "--exit-after",
+        "40",
     ];
-    let out = under_layer(&layer, app("cubes"), &["--backend", "egl", "--size", "320x240", "--frames", "50"], &[]);
+    let out = under_layer(
+        &layer,
+        app("cubes"),
+        &["--backend", "egl", "--size", "320x240", "--frames", "50"],
+        &[],
+    );
     assert_success(&out, "cubes recording");
     // The name gets the Looking Glass tag, and the user is told.
     let named = dir.join("cubes_qs3x2a1.3333.mp4");
@@ -58,8 +74,13 @@ fn recording_holds_the_dumped_quilts() {
     let q40 = read_png(&dump.join("f000040_qs3x2a1.3333.png"));
     let (p_first, p_last) = (mean_psnr(&q12, &first, 3, 2), mean_psnr(&q40, &last, 3, 2));
     let p_other = mean_psnr(&q40, &first, 3, 2);
-    eprintln!("video against dumps: first {p_first:.2} dB, last {p_last:.2} dB, first against frame 40 {p_other:.2} dB");
-    assert!(p_first >= VIDEO_PSNR_DB && p_last >= VIDEO_PSNR_DB, "{p_first} {p_last}");
+    eprintln!(
+        "video against dumps: first {p_first:.2} dB, last {p_last:.2} dB, first against frame 40 {p_other:.2} dB"
+    );
+    assert!(
+        p_first >= VIDEO_PSNR_DB && p_last >= VIDEO_PSNR_DB,
+        "{p_first} {p_last}"
+    );
     assert!(p_other < VIDEO_PSNR_DB, "frames 12 and 40 should differ: {p_other}");
 }
 
@@ -71,15 +92,31 @@ fn recording_without_an_encoder_is_one_line_and_the_program_runs() {
     std::fs::create_dir_all(&bin).unwrap();
     std::os::unix::fs::symlink("/usr/bin/timeout", bin.join("timeout")).unwrap();
     let video = dir.join("x.mp4");
-    let layer = ["--record", video.to_str().unwrap(), "--exit-after", "15", "--quilt", "2x1"];
+    let layer = [
+        "--record",
+        video.to_str().unwrap(),
+        "--exit-after",
+        "15",
+        "--quilt",
+        "2x1",
+    ];
     let path = bin.to_str().unwrap();
-    let out = under_layer(&layer, app("cubes"), &["--backend", "egl", "--size", "64x64", "--frames", "30"], &[("PATH", path)]);
+    let out = under_layer(
+        &layer,
+        app("cubes"),
+        &["--backend", "egl", "--size", "64x64", "--frames", "30"],
+        &[("PATH", path)],
+    );
     assert_success(&out, "cubes with --record and no ffmpeg");
     let err = stderr(&out);
     let lines: Vec<&str> = err.lines().filter(|l| l.contains("holoinject")).collect();
     assert_eq!(lines.len(), 1, "{err}");
     assert!(lines[0].contains("--record") && lines[0].contains("ffmpeg"), "{err}");
-    assert!(std::fs::read_dir(&dir).unwrap().all(|e| !e.unwrap().file_name().to_string_lossy().ends_with(".mp4")));
+    assert!(
+        std::fs::read_dir(&dir)
+            .unwrap()
+            .all(|e| !e.unwrap().file_name().to_string_lossy().ends_with(".mp4"))
+    );
 }
 
 #[test]
@@ -88,13 +125,25 @@ fn offline_weave_equals_the_layers_native_output() {
     let dump = dir.join("dump");
     let mut layer = dump_and_exit_at(&dump, "2").to_vec();
     layer.extend(["--device", "portrait"]);
-    let out = under_layer(&layer, app("cubes"), &["--backend", "egl", "--size", "420x560", "--frames", "2"], &[]);
+    let out = under_layer(
+        &layer,
+        app("cubes"),
+        &["--backend", "egl", "--size", "420x560", "--frames", "2"],
+        &[],
+    );
     assert_success(&out, "cubes native");
     let woven = dir.join("woven.png");
     let quilt = dump.join("f000002_qs8x6a0.75.png");
     let tool = run(
         &launcher(),
-        &["quilt", quilt.to_str().unwrap(), "--device", "portrait", "--out", woven.to_str().unwrap()],
+        &[
+            "quilt",
+            quilt.to_str().unwrap(),
+            "--device",
+            "portrait",
+            "--out",
+            woven.to_str().unwrap(),
+        ],
         &[],
     );
     assert_success(&tool, "holoinject quilt");
@@ -113,11 +162,41 @@ fn offline_weave_refuses_unknown_layouts_and_devices() {
     holoinject::output::png::write_rgb(&png, 4, 2, &[0; 24]).unwrap();
     let out_png = dir.join("o.png");
     let o = out_png.to_str().unwrap();
-    let r = run(&launcher(), &["quilt", png.to_str().unwrap(), "--device", "portrait", "--out", o], &[]);
+    let r = run(
+        &launcher(),
+        &["quilt", png.to_str().unwrap(), "--device", "portrait", "--out", o],
+        &[],
+    );
     assert_one_line_failure(&r, "--quilt CxR", "a quilt without a layout");
-    let r = run(&launcher(), &["quilt", png.to_str().unwrap(), "--quilt", "4x2", "--device", "nope", "--out", o], &[]);
+    let r = run(
+        &launcher(),
+        &[
+            "quilt",
+            png.to_str().unwrap(),
+            "--quilt",
+            "4x2",
+            "--device",
+            "nope",
+            "--out",
+            o,
+        ],
+        &[],
+    );
     assert_one_line_failure(&r, "--device nope", "an unknown device");
-    let r = run(&launcher(), &["quilt", png.to_str().unwrap(), "--quilt", "4x2", "--device", "go", "--out", o], &[]);
+    let r = run(
+        &launcher(),
+        &[
+            "quilt",
+            png.to_str().unwrap(),
+            "--quilt",
+            "4x2",
+            "--device",
+            "go",
+            "--out",
+            o,
+        ],
+        &[],
+    );
     assert_success(&r, "a 4x2 quilt of 1-pixel tiles");
     assert_eq!(read_png(&out_png).width, 1440);
 }
@@ -128,14 +207,34 @@ fn doctor_passes_here_and_names_what_breaks() {
     let ok = run(&launcher(), &["doctor", "--device", "portrait", "--", "glxgears"], &[]);
     let text = String::from_utf8_lossy(&ok.stdout).into_owned();
     assert_success(&ok, &format!("doctor on this machine:\n{text}"));
-    for check in ["layer:", "glx:", "egl:", "osmesa:", "calibration:", "program:", "preload:", "record:"] {
-        assert!(text.lines().any(|l| l.starts_with("ok") && l.contains(check)), "{check} not ok:\n{text}");
+    for check in [
+        "layer:",
+        "glx:",
+        "egl:",
+        "osmesa:",
+        "calibration:",
+        "program:",
+        "preload:",
+        "record:",
+    ] {
+        assert!(
+            text.lines().any(|l| l.starts_with("ok") && l.contains(check)),
+            "{check} not ok:\n{text}"
+        );
     }
     // A missing layer library, and a device that does not exist: non-zero, the line named.
-    let missing = run(&launcher(), &["doctor"], &[("HOLOINJECT_LIB", "/nonexistent/libholoinject.so")]);
+    let missing = run(
+        &launcher(),
+        &["doctor"],
+        &[("HOLOINJECT_LIB", "/nonexistent/libholoinject.so")],
+    );
     let text = String::from_utf8_lossy(&missing.stdout).into_owned();
     assert!(!missing.status.success(), "{text}");
-    assert!(text.lines().any(|l| l.starts_with("fail  layer:") && l.contains("fix:")), "{text}");
+    assert!(
+        text.lines()
+            .any(|l| l.starts_with("fail  layer:") && l.contains("fix:")),
+        "{text}"
+    );
     let bad = run(&launcher(), &["doctor", "--device", "nope"], &[]);
     let text = String::from_utf8_lossy(&bad.stdout).into_owned();
     assert!(!bad.status.success(), "{text}");

@@ -56,7 +56,11 @@ pub fn run_probe(args: &[&str]) -> Result<String, String> {
     if !out.status.success() {
         let err = String::from_utf8_lossy(&out.stderr);
         let line = err.lines().rev().find(|l| !l.trim().is_empty()).unwrap_or("no message");
-        return Err(format!("{} ({})", line.trim_start_matches("holoinject: error: "), out.status));
+        return Err(format!(
+            "{} ({})",
+            line.trim_start_matches("holoinject: error: "),
+            out.status
+        ));
     }
     Ok(String::from_utf8_lossy(&out.stdout).into_owned())
 }
@@ -72,7 +76,10 @@ pub fn probe_failure(backend: &str, e: &str) -> (Status, &'static str) {
         };
         (Status::Warn, fix)
     } else {
-        (Status::Fail, "check the GL driver (`glxinfo -B`, `eglinfo -B`); programs on this back-end will not run")
+        (
+            Status::Fail,
+            "check the GL driver (`glxinfo -B`, `eglinfo -B`); programs on this back-end will not run",
+        )
     }
 }
 
@@ -124,12 +131,20 @@ impl GlReport {
         let mut v = vec![(Status::Ok, head, None)];
         if !at_least(4, 3) {
             let fix = Some("--mode exact works; synth/hybrid/auto need compute shaders (OpenGL 4.3)");
-            v.push((Status::Warn, "no compute shaders: fast modes fall back to exact".into(), fix));
+            v.push((
+                Status::Warn,
+                "no compute shaders: fast modes fall back to exact".into(),
+                fix,
+            ));
         }
         let copies = self.has("GL_ARB_texture_view") && self.has("GL_ARB_copy_image");
         if !at_least(4, 5) || !copies {
             let fix = Some("scenes drawn through their own framebuffers may lose parallax; a newer driver has them");
-            v.push((Status::Warn, "no OpenGL 4.5 texture views + image copies for layered shadows".into(), fix));
+            v.push((
+                Status::Warn,
+                "no OpenGL 4.5 texture views + image copies for layered shadows".into(),
+                fix,
+            ));
         }
         v
     }
@@ -159,7 +174,12 @@ pub fn visual_json_candidates() -> Vec<PathBuf> {
 
 fn subdirs(dir: &Path) -> Vec<PathBuf> {
     let mut v: Vec<PathBuf> = std::fs::read_dir(dir)
-        .map(|rd| rd.filter_map(|e| e.ok()).map(|e| e.path()).filter(|p| p.is_dir()).collect())
+        .map(|rd| {
+            rd.filter_map(|e| e.ok())
+                .map(|e| e.path())
+                .filter(|p| p.is_dir())
+                .collect()
+        })
         .unwrap_or_default();
     v.sort();
     v
@@ -182,7 +202,10 @@ fn preload_in(lib: &Path, dir: &Path) -> Result<String, (Status, String)> {
     let plain = dir.join("plain.png");
     let plain_arg = plain.to_string_lossy().into_owned();
     run_probe(&["osmesa", "--draw", &plain_arg]).map_err(|e| match e.contains("is not installed") {
-        true => (Status::Warn, format!("not tried: the test program renders with OSMesa: {e}")),
+        true => (
+            Status::Warn,
+            format!("not tried: the test program renders with OSMesa: {e}"),
+        ),
         false => fail(format!("the test program failed without the layer: {e}")),
     })?;
     let exe = this_exe().map_err(fail)?;
@@ -199,7 +222,10 @@ fn preload_in(lib: &Path, dir: &Path) -> Result<String, (Status, String)> {
     if !out.status.success() || !quilt.is_file() {
         let err = String::from_utf8_lossy(&out.stderr);
         let last = err.lines().rev().find(|l| !l.trim().is_empty()).unwrap_or("no message");
-        return Err(fail(format!("no quilt from the test program under the layer ({}): {last}", out.status)));
+        return Err(fail(format!(
+            "no quilt from the test program under the layer ({}): {last}",
+            out.status
+        )));
     }
     compare(&plain, &quilt).map_err(fail)
 }
@@ -209,7 +235,10 @@ fn compare(plain: &Path, quilt: &Path) -> Result<String, String> {
     let (plain, quilt) = (load(plain)?, load(quilt)?);
     let (w, h) = (plain.width as usize, plain.height as usize);
     if (quilt.width as usize, quilt.height as usize) != (w * 3, h) {
-        return Err(format!("the quilt is {}x{}, expected 3 tiles of {w}x{h}", quilt.width, quilt.height));
+        return Err(format!(
+            "the quilt is {}x{}, expected 3 tiles of {w}x{h}",
+            quilt.width, quilt.height
+        ));
     }
     let at = |t: usize, x: usize, y: usize| &quilt.rgb[(y * w * 3 + t * w + x) * 3..][..3];
     let plain_at = |x: usize, y: usize| &plain.rgb[(y * w + x) * 3..][..3];
@@ -222,16 +251,25 @@ fn compare(plain: &Path, quilt: &Path) -> Result<String, String> {
             .flat_map(|y| (0..w).map(move |x| (x, y)))
             .filter(|&(x, y)| {
                 let near = x.saturating_sub(1)..=(x + 1).min(w - 1);
-                !near.into_iter().any(|px| at(t, x, y).iter().zip(plain_at(px, y)).all(|(a, b)| a.abs_diff(*b) <= 1))
+                !near.into_iter().any(|px| {
+                    at(t, x, y)
+                        .iter()
+                        .zip(plain_at(px, y))
+                        .all(|(a, b)| a.abs_diff(*b) <= 1)
+                })
             })
             .count()
     };
     let (left, centre, right) = (moved(0), moved(1), moved(2));
     if centre > 0 {
-        return Err(format!("the quilt's centre view differs from the program's own frame at {centre} pixels"));
+        return Err(format!(
+            "the quilt's centre view differs from the program's own frame at {centre} pixels"
+        ));
     }
     if left == 0 || right == 0 {
-        return Err("the quilt's outer views equal the centre one: no parallax (the shaders were not rewritten)".into());
+        return Err(
+            "the quilt's outer views equal the centre one: no parallax (the shaders were not rewritten)".into(),
+        );
     }
     Ok(format!(
         "a test program rendered a 3x1 quilt under the layer: its centre view is the program's own frame ({w}x{h}), the outer views show parallax ({left} and {right} pixels moved)"
@@ -244,7 +282,9 @@ mod tests {
 
     #[test]
     fn versions_grade_the_layers_features() {
-        let g = GlReport::parse("version 4.5 (Core Profile) Mesa 22.3.6\nglsl 4.50\nrenderer llvmpipe\next GL_ARB_texture_view\next GL_ARB_copy_image\n");
+        let g = GlReport::parse(
+            "version 4.5 (Core Profile) Mesa 22.3.6\nglsl 4.50\nrenderer llvmpipe\next GL_ARB_texture_view\next GL_ARB_copy_image\n",
+        );
         assert_eq!(g.findings().iter().map(|f| f.0).collect::<Vec<_>>(), [Status::Ok]);
         let old = GlReport::parse("version 3.3 Mesa\nglsl 3.30\n");
         let s: Vec<Status> = old.findings().iter().map(|f| f.0).collect();

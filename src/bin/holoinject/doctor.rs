@@ -41,7 +41,14 @@ fn parse_args(args: &[OsString]) -> Result<Args, String> {
     let mut it = args.iter();
     while let Some(arg) = it.next() {
         match arg.to_str() {
-            Some("--device") => a.device = Some(it.next().and_then(|v| v.to_str()).ok_or("--device needs a value")?.into()),
+            Some("--device") => {
+                a.device = Some(
+                    it.next()
+                        .and_then(|v| v.to_str())
+                        .ok_or("--device needs a value")?
+                        .into(),
+                )
+            }
             Some(s) if s.starts_with("--device=") => a.device = Some(s["--device=".len()..].into()),
             Some("--") => {
                 a.program = it.next().cloned();
@@ -64,6 +71,7 @@ pub fn run(args: &[OsString]) -> Result<(), String> {
     for backend in ["glx", "egl", "osmesa"] {
         check_backend(&mut r, backend);
     }
+    check_monitor(&mut r, a.device.as_deref());
     check_calibration(&mut r, a.device.as_deref());
     if let Some(p) = &a.program {
         check_program(&mut r, p);
@@ -74,7 +82,10 @@ pub fn run(args: &[OsString]) -> Result<(), String> {
     }
     check_encoder(&mut r);
     if r.failed > 0 {
-        return Err(format!("{} check(s) failed: a run would not work as it should", r.failed));
+        return Err(format!(
+            "{} check(s) failed: a run would not work as it should",
+            r.failed
+        ));
     }
     Ok(())
 }
@@ -108,6 +119,57 @@ fn check_backend(r: &mut Report, backend: &str) {
     let info = checks::GlReport::parse(&out);
     for (status, finding, fix) in info.findings() {
         r.line(status, backend, &finding, fix);
+    }
+}
+
+/// Whether a Looking Glass is connected, where, and whether it matches `--device`.
+fn check_monitor(r: &mut Report, device: Option<&str>) {
+    use holoinject::output::monitor;
+    let fix = "plug the Looking Glass in (HDMI or DisplayPort, and its USB-C power) and turn it on, or name it with --monitor NAME|WxH+X+Y";
+    if std::env::var_os("DISPLAY").is_none() {
+        return r.line(
+            Status::Warn,
+            "display",
+            "no X display ($DISPLAY unset): cannot look for a Looking Glass",
+            Some(fix),
+        );
+    }
+    let monitors = match monitor::detect() {
+        Ok(m) => m,
+        Err(e) => {
+            return r.line(
+                Status::Warn,
+                "display",
+                &format!("cannot list monitors: {e}"),
+                Some(fix),
+            );
+        }
+    };
+    let Some(lkg) = monitor::find_looking_glass(&monitors) else {
+        let seen: Vec<String> = monitors.iter().map(|m| m.describe()).collect();
+        let finding = format!("no Looking Glass connected (monitors: {})", seen.join(", "));
+        return r.line(Status::Warn, "display", &finding, Some(fix));
+    };
+    let model = lkg
+        .device_preset()
+        .map(|p| format!(", model {}", p.name))
+        .unwrap_or_default();
+    let finding = format!("Looking Glass at {}{model}", lkg.describe());
+    let size = (lkg.geometry.w, lkg.geometry.h);
+    let panel = device
+        .and_then(|d| holoinject::config::device::load(d).ok())
+        .map(|d| (d.calibration.screen_w, d.calibration.screen_h));
+    match panel {
+        Some(p) if p != size => {
+            let mismatch = format!("{finding}, but --device is a {}x{} panel", p.0, p.1);
+            r.line(
+                Status::Warn,
+                "display",
+                &mismatch,
+                Some("set the monitor to the panel's native mode, or give this unit's visual.json as --device"),
+            )
+        }
+        _ => r.line(Status::Ok, "display", &finding, None),
     }
 }
 
@@ -175,7 +237,17 @@ fn check_preload(r: &mut Report, lib: &Path) {
 
 fn check_encoder(r: &mut Report) {
     match holoinject::output::encoder::find_ffmpeg() {
-        Ok(p) => r.line(Status::Ok, "record", &format!("--record encodes with {}", p.display()), None),
-        Err(e) => r.line(Status::Warn, "record", &format!("--record: {e}"), Some("apt install ffmpeg")),
+        Ok(p) => r.line(
+            Status::Ok,
+            "record",
+            &format!("--record encodes with {}", p.display()),
+            None,
+        ),
+        Err(e) => r.line(
+            Status::Warn,
+            "record",
+            &format!("--record: {e}"),
+            Some("apt install ffmpeg"),
+        ),
     }
 }

@@ -65,10 +65,17 @@ const FS: &str = "#version 330 core\nin vec3 c;\nout vec4 o;\nvoid main() { o = 
 /// Three quads (x, y, z, r, g, b per vertex) at depths 3, 5 and 9 in front of the camera.
 fn quads() -> Vec<f32> {
     let quad = |x: f32, z: f32, s: f32, rgb: [f32; 3]| -> Vec<f32> {
-        [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
-            .iter()
-            .flat_map(|&(u, v)| [x + u * s, v * s, -z, rgb[0], rgb[1], rgb[2]])
-            .collect()
+        [
+            (-1.0, -1.0),
+            (1.0, -1.0),
+            (1.0, 1.0),
+            (-1.0, -1.0),
+            (1.0, 1.0),
+            (-1.0, 1.0),
+        ]
+        .iter()
+        .flat_map(|&(u, v)| [x + u * s, v * s, -z, rgb[0], rgb[1], rgb[2]])
+        .collect()
     };
     let mut v = quad(0.0, 9.0, 3.0, [0.2, 0.3, 0.8]);
     v.extend(quad(-0.8, 5.0, 0.9, [0.9, 0.6, 0.1]));
@@ -118,7 +125,12 @@ fn draw_scene(gl: &Gl, probe: &Probe, out: &std::path::Path) -> Result<(), Strin
         gl.EnableVertexAttribArray(0);
         gl.EnableVertexAttribArray(1);
         gl.UseProgram(program);
-        gl.UniformMatrix4fv(gl.GetUniformLocation(program, c"u_mvp".as_ptr()), 1, gl::FALSE, projection().as_ptr());
+        gl.UniformMatrix4fv(
+            gl.GetUniformLocation(program, c"u_mvp".as_ptr()),
+            1,
+            gl::FALSE,
+            projection().as_ptr(),
+        );
         gl.Enable(gl::DEPTH_TEST);
         gl.Viewport(0, 0, probe.size.0 as i32, probe.size.1 as i32);
         for _frame in 0..2 {
@@ -133,7 +145,17 @@ fn draw_scene(gl: &Gl, probe: &Probe, out: &std::path::Path) -> Result<(), Strin
     let mut rgba = vec![0u8; w as usize * h as usize * 4];
     // SAFETY: reading the w*h RGBA8 frame just drawn into a buffer of that size (alignment 4
     // suits RGBA8 rows).
-    unsafe { gl.ReadPixels(0, 0, w as i32, h as i32, gl::RGBA, gl::UNSIGNED_BYTE, rgba.as_mut_ptr().cast()) };
+    unsafe {
+        gl.ReadPixels(
+            0,
+            0,
+            w as i32,
+            h as i32,
+            gl::RGBA,
+            gl::UNSIGNED_BYTE,
+            rgba.as_mut_ptr().cast(),
+        )
+    };
     let rgb = holoinject::output::png::rgba_bottom_up_to_rgb_top_down(&rgba, w, h);
     holoinject::output::png::write_rgb(out, probe.size.0, probe.size.1, &rgb)
 }

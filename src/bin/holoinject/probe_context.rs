@@ -65,7 +65,14 @@ pub fn osmesa(size: (u32, u32)) -> Result<Probe, String> {
             return Err("OSMesaCreateContextAttribs refused OpenGL 3.3 core".into());
         }
         let mut buffer = vec![0u8; size.0 as usize * size.1 as usize * 4];
-        if make_current(ctx, buffer.as_mut_ptr().cast(), 0x1401, size.0 as c_int, size.1 as c_int) == 0 {
+        if make_current(
+            ctx,
+            buffer.as_mut_ptr().cast(),
+            0x1401,
+            size.0 as c_int,
+            size.1 as c_int,
+        ) == 0
+        {
             return Err("OSMesaMakeCurrent failed".into());
         }
         Ok(Probe {

@@ -19,8 +19,18 @@ fn raw(name: &str, edid: Option<&[u8]>, geometry: Rect) -> Monitor {
     })
 }
 
-const DESK: Rect = Rect { x: 0, y: 0, w: 1920, h: 1080 };
-const SIDE: Rect = Rect { x: 1920, y: 0, w: 1536, h: 2048 };
+const DESK: Rect = Rect {
+    x: 0,
+    y: 0,
+    w: 1920,
+    h: 1080,
+};
+const SIDE: Rect = Rect {
+    x: 1920,
+    y: 0,
+    w: 1536,
+    h: 2048,
+};
 
 /// A desk monitor at the origin and a Portrait to its right, as a user's two-head set-up.
 fn desk_and_portrait() -> Vec<Monitor> {
@@ -54,7 +64,10 @@ fn the_portrait_is_found_beside_a_desk_monitor() {
 
 #[test]
 fn ordinary_monitors_and_missing_edids_are_not_looking_glasses() {
-    let monitors = vec![raw("DP-1", Some(edid!("ordinary-1920x1080")), DESK), raw("VIRTUAL-1", None, SIDE)];
+    let monitors = vec![
+        raw("DP-1", Some(edid!("ordinary-1920x1080")), DESK),
+        raw("VIRTUAL-1", None, SIDE),
+    ];
     assert_eq!(monitors[0].edid_name.as_deref(), Some("DELL U2415"));
     assert!(find_looking_glass(&monitors).is_none());
 }
@@ -85,13 +98,33 @@ fn corrupt_edids_have_no_name() {
 fn monitor_chosen_by_any_of_its_names_or_by_rectangle() {
     let monitors = desk_and_portrait();
     for name in ["HDMI-1", "hdmi-1", "LKG-P00123"] {
-        assert_eq!(select(&MonitorSpec::Name(name.into()), &monitors).unwrap().geometry, SIDE, "{name}");
+        assert_eq!(
+            select(&MonitorSpec::Name(name.into()), &monitors).unwrap().geometry,
+            SIDE,
+            "{name}"
+        );
     }
     let e = select(&MonitorSpec::Name("DP-9".into()), &monitors).unwrap_err();
-    assert!(e.contains("DP-9") && e.contains("HDMI-1 \"LKG-P00123\" 1536x2048+1920+0"), "{e}");
-    let by_hand = MonitorSpec::Geometry { w: 1536, h: 2048, x: 1920, y: 0 };
+    assert!(
+        e.contains("DP-9") && e.contains("HDMI-1 \"LKG-P00123\" 1536x2048+1920+0"),
+        "{e}"
+    );
+    let by_hand = MonitorSpec::Geometry {
+        w: 1536,
+        h: 2048,
+        x: 1920,
+        y: 0,
+    };
     assert_eq!(select(&by_hand, &monitors).unwrap().name, "HDMI-1");
-    let elsewhere = MonitorSpec::Geometry { w: 800, h: 600, x: -800, y: 0 };
+    let elsewhere = MonitorSpec::Geometry {
+        w: 800,
+        h: 600,
+        x: -800,
+        y: 0,
+    };
     let m = select(&elsewhere, &monitors).unwrap();
-    assert_eq!((m.name.as_str(), m.geometry.to_string()), ("--monitor", "800x600-800+0".to_string()));
+    assert_eq!(
+        (m.name.as_str(), m.geometry.to_string()),
+        ("--monitor", "800x600-800+0".to_string())
+    );
 }
