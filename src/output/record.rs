@@ -29,6 +29,9 @@ static ENCODER: Mutex<Option<Encoder>> = Mutex::new(None);
 static CLAIMED: AtomicBool = AtomicBool::new(false);
 static DROP_WARNED: AtomicBool = AtomicBool::new(false);
 static FAILED: AtomicBool = AtomicBool::new(false);
+/// What recording costs the program's thread per frame (queueing the read, mapping the one
+/// before, handing it over), in ms: the summary's median.
+static COST_MS: Mutex<Vec<f64>> = Mutex::new(Vec::new());
 
 #[derive(Default)]
 enum State {
@@ -67,7 +70,12 @@ impl Recorder {
                     self.start(gl, layout, path, fps);
                 }
             }
-            State::Recording => self.capture(gl, info, fbo, layout),
+            State::Recording => {
+                let start = Instant::now();
+                self.capture(gl, info, fbo, layout);
+                let ms = start.elapsed().as_secs_f64() * 1e3;
+                COST_MS.lock().unwrap_or_else(|e| e.into_inner()).push(ms);
+            }
         }
     }
 
@@ -201,13 +209,14 @@ pub fn finish() {
         return;
     };
     let (path, sent, dropped) = (enc.path.clone(), enc.sent, enc.dropped);
+    let cost = super::timing::median(&mut COST_MS.lock().unwrap_or_else(|e| e.into_inner())).unwrap_or(0.0);
     match enc.finish() {
         Ok((n, fps)) => {
             let level = if dropped > 0 { Level::Warn } else { Level::Info };
             log::at(
                 level,
                 format_args!(
-                    "--record: {} written: {n} frames at {fps:.2} fps ({} s); {dropped} of {} frames dropped because the encoder was behind",
+                    "--record: {} written: {n} frames at {fps:.2} fps ({} s); {dropped} of {} frames dropped because the encoder was behind; read-back on the program's thread: median {cost:.2} ms/frame",
                     path.display(),
                     (n as f64 / fps * 10.0).round() / 10.0,
                     sent + dropped
