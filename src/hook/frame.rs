@@ -56,7 +56,7 @@ fn multiview_frame(frame: u64, surface: usize, settings: &Settings) {
             // As the window resolves at its swap.
             t.resolve_all(gl, mv.info, crate::gl::COLOR_BUFFER_BIT);
         }
-        if let Err(e) = presenter.present(gl, mv, window, settings.view.output) {
+        if let Err(e) = crate::output::device::present_frame(gl, presenter, mv, cur, window, settings) {
             log::once(&COMPOSE_FAILED, Level::Error, format_args!("{e}"));
         }
         if let (Some(path), Some(t)) = (&settings.record, &mv.target) {

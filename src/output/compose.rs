@@ -71,6 +71,19 @@ fn clear_window(gl: &Gl) {
     unsafe { gl.ClearBufferfv(COLOR, 0, black.as_ptr()) };
 }
 
+/// Clears the real default framebuffer to black.
+pub fn blank(gl: &Gl, info: crate::gl::GlInfo) -> Result<(), String> {
+    let _guard = StateGuard::new(gl, info).framebuffers().for_pass();
+    crate::output::pass::neutral_state(gl, info);
+    // SAFETY: the real default framebuffer as destination; restored by the guard.
+    unsafe {
+        gl.Disable(SCISSOR_TEST);
+        gl.BindFramebuffer(DRAW_FRAMEBUFFER, 0);
+    }
+    clear_window(gl);
+    Ok(())
+}
+
 /// Draws the quilt into the real default framebuffer (`window` pixels) as `output` asks.
 pub fn present(
     gl: &Gl,
@@ -118,17 +131,7 @@ pub fn present(
         }
         Output::Anaglyph => anaglyph(gl, presenter, mv, quilt_tex, layout, window)?,
         Output::Native => {
-            let device = mv.settings.device.clone().ok_or("--output native needs --device")?;
-            let input = crate::output::native::WeaveInput {
-                device: &device,
-                quilt_texture: quilt_tex,
-                layout,
-                views: layout.views(),
-                grid: (layout.cols, layout.rows),
-                filter: mv.settings.weave_filter,
-            };
-            let t = crate::output::native::weave(gl, mv.info, &mut presenter.passes, &mut presenter.native, &input)?;
-            let (fbo, size) = (t.fbo, t.size);
+            let (fbo, size) = weave(gl, presenter, mv, quilt_tex, layout)?;
             // SAFETY: the woven image to the window, fitted.
             unsafe {
                 gl.BindFramebuffer(READ_FRAMEBUFFER, fbo);
@@ -150,6 +153,41 @@ pub fn present(
         s.show(gl, mv.info, &mut presenter.passes)?;
     }
     Ok(())
+}
+
+/// The quilt woven into the presenter's native target; its framebuffer and size. The caller
+/// restores state.
+pub fn weave(
+    gl: &Gl,
+    presenter: &mut Presenter,
+    mv: &Multiview,
+    quilt_tex: u32,
+    layout: QuiltLayout,
+) -> Result<(u32, (u32, u32)), String> {
+    let device = mv.settings.device.clone().ok_or("--output native needs --device")?;
+    let input = crate::output::native::WeaveInput {
+        device: &device,
+        quilt_texture: quilt_tex,
+        layout,
+        views: layout.views(),
+        grid: (layout.cols, layout.rows),
+        filter: mv.settings.weave_filter,
+    };
+    let t = crate::output::native::weave(gl, mv.info, &mut presenter.passes, &mut presenter.native, &input)?;
+    Ok((t.fbo, t.size))
+}
+
+/// Weaves the quilt and reads the weave back: RGBA8 rows, bottom-up, and its size.
+pub fn woven_pixels(gl: &Gl, presenter: &mut Presenter, mv: &Multiview) -> Result<(Vec<u8>, (u32, u32)), String> {
+    let target = mv.target.as_ref().ok_or("no quilt")?;
+    let (fbo, size) = {
+        let _guard = StateGuard::new(gl, mv.info).framebuffers().for_pass();
+        crate::output::pass::neutral_state(gl, mv.info);
+        weave(gl, presenter, mv, target.sampled, target.layout)?
+    };
+    let rect = [0, 0, size.0 as i32, size.1 as i32];
+    let rgba = crate::gl::readback::read_rgba(gl, mv.info, crate::gl::readback::Source::Fbo(fbo), rect)?;
+    Ok((rgba, size))
 }
 
 fn anaglyph(

@@ -5,8 +5,12 @@
 //! native-resolution weave target.
 
 pub mod compose;
+pub mod device;
+pub mod device_image;
+pub mod device_window;
 pub mod dump;
 pub mod encoder;
+pub mod glx;
 pub mod monitor;
 pub mod native;
 pub mod pass;
@@ -40,6 +44,11 @@ impl Presenter {
     /// asks; all GL state touched is restored.
     pub fn present(&mut self, gl: &Gl, mv: &Multiview, window: (u32, u32), output: Output) -> Result<(), String> {
         compose::present(gl, self, mv, window, output)
+    }
+
+    /// The program's window left black (`--preview off`); all GL state touched is restored.
+    pub fn blank(&mut self, gl: &Gl, info: crate::gl::GlInfo) -> Result<(), String> {
+        compose::blank(gl, info)
     }
 
     /// The quilt and, after a native present, the weave, as PNGs of frame `frame`.

@@ -18,7 +18,7 @@ fn launcher_rejects_bad_values_with_one_line() {
     std::fs::write(&partial, r#"{"slope": {"value": -7.2}, "center": {"value": 0.1}, "DPI": {"value": 324}, "screenW": {"value": 1536}, "screenH": {"value": 2048}}"#).unwrap();
     let bad_toml = dir.join("bad.toml");
     std::fs::write(&bad_toml, "quilt = \"5x9\"\ndepthiness = = 0.1\n").unwrap();
-    let cases: [(&[&str], &str); 20] = [
+    let cases: [(&[&str], &str); 23] = [
         (
             &["--preset", bad_toml.to_str().unwrap()],
             "bad.toml (line 2): not valid TOML",
@@ -39,6 +39,9 @@ fn launcher_rejects_bad_values_with_one_line() {
         (&["--log", "loud"], "--log loud"),
         (&["--weave-filter", "gaussian:99"], "--weave-filter gaussian:99"),
         (&["--output", "hologram"], "--output hologram"),
+        (&["--monitor", "1536x2048+1920"], "--monitor 1536x2048+1920"),
+        (&["--present", "screen"], "--present screen"),
+        (&["--preview", "both"], "--preview both"),
         (&["--fbo-scale", "0"], "--fbo-scale 0"),
         (&["--fbo-scale", "2"], "--fbo-scale 2"),
         (&["--fbo-scale", "foo"], "--fbo-scale foo"),

@@ -13,6 +13,7 @@ mod util;
 mod auto_mode;
 mod bad_input;
 mod convergence;
+mod device_window;
 mod fbo_scale;
 mod forced_failures;
 mod launcher;

@@ -6,10 +6,12 @@ mod compare;
 mod gl_errors;
 mod image;
 mod parallax;
+mod xserver;
 pub use compare::*;
 pub use gl_errors::*;
 pub use image::*;
 pub use parallax::*;
+pub use xserver::*;
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
