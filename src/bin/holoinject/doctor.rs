@@ -13,7 +13,7 @@ use super::checks::{self, Status};
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 
-pub const USAGE: &str = "usage: holoinject doctor [--device NAME|PATH] [-- PROGRAM [ARGS…]]";
+pub const USAGE: &str = "usage: holoinject doctor [--device NAME|PATH] [--monitor NAME|WxH+X+Y] [-- PROGRAM [ARGS…]]";
 
 #[derive(Default)]
 struct Report {
@@ -30,12 +30,15 @@ impl Report {
 
 struct Args {
     device: Option<String>,
+    /// As `run --monitor`: the monitor to check instead of the one found by its EDID name.
+    monitor: Option<String>,
     program: Option<OsString>,
 }
 
 fn parse_args(args: &[OsString]) -> Result<Args, String> {
     let mut a = Args {
         device: None,
+        monitor: None,
         program: None,
     };
     let mut it = args.iter();
@@ -50,6 +53,14 @@ fn parse_args(args: &[OsString]) -> Result<Args, String> {
                 )
             }
             Some(s) if s.starts_with("--device=") => a.device = Some(s["--device=".len()..].into()),
+            Some("--monitor") => {
+                a.monitor = Some(
+                    it.next()
+                        .and_then(|v| v.to_str())
+                        .ok_or("--monitor needs a value")?
+                        .into(),
+                )
+            }
             Some("--") => {
                 a.program = it.next().cloned();
                 break;
@@ -71,7 +82,7 @@ pub fn run(args: &[OsString]) -> Result<(), String> {
     for backend in ["glx", "egl", "osmesa"] {
         check_backend(&mut r, backend);
     }
-    check_monitor(&mut r, a.device.as_deref());
+    check_monitor(&mut r, a.device.as_deref(), a.monitor.as_deref());
     check_calibration(&mut r, a.device.as_deref());
     if let Some(p) = &a.program {
         check_program(&mut r, p);
@@ -123,7 +134,7 @@ fn check_backend(r: &mut Report, backend: &str) {
 }
 
 /// Whether a Looking Glass is connected, where, and whether it matches `--device`.
-fn check_monitor(r: &mut Report, device: Option<&str>) {
+fn check_monitor(r: &mut Report, device: Option<&str>, chosen: Option<&str>) {
     use holoinject::output::monitor;
     let fix = "plug the Looking Glass in (HDMI or DisplayPort, and its USB-C power) and turn it on, or name it with --monitor NAME|WxH+X+Y";
     if std::env::var_os("DISPLAY").is_none() {
@@ -145,7 +156,20 @@ fn check_monitor(r: &mut Report, device: Option<&str>) {
             );
         }
     };
-    let Some(lkg) = monitor::find_looking_glass(&monitors) else {
+    let picked =
+        match chosen.map(|c| holoinject::config::parse::monitor(c).and_then(|s| monitor::select(&s, &monitors))) {
+            Some(Ok(m)) => Some(m),
+            Some(Err(e)) => {
+                return r.line(
+                    Status::Fail,
+                    "display",
+                    &e,
+                    Some("`xrandr --listmonitors` names the monitors"),
+                );
+            }
+            None => monitor::find_looking_glass(&monitors).cloned(),
+        };
+    let Some(lkg) = picked.as_ref() else {
         let seen: Vec<String> = monitors.iter().map(|m| m.describe()).collect();
         let finding = format!("no Looking Glass connected (monitors: {})", seen.join(", "));
         return r.line(Status::Warn, "display", &finding, Some(fix));
@@ -154,7 +178,8 @@ fn check_monitor(r: &mut Report, device: Option<&str>) {
         .device_preset()
         .map(|p| format!(", model {}", p.name))
         .unwrap_or_default();
-    let finding = format!("Looking Glass at {}{model}", lkg.describe());
+    let by = if chosen.is_some() { " (by --monitor)" } else { "" };
+    let finding = format!("Looking Glass at {}{model}{by}", lkg.describe());
     let size = (lkg.geometry.w, lkg.geometry.h);
     let panel = device
         .and_then(|d| holoinject::config::device::load(d).ok())
