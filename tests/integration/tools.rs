@@ -254,4 +254,33 @@ fn doctor_passes_here_and_names_what_breaks() {
     assert_eq!(fails.len(), 1, "{text}");
     assert!(fails[0].starts_with("fail  calibration: --device nope"), "{text}");
     assert!(stderr(&bad).contains("1 check(s) failed"), "{}", stderr(&bad));
+    // Xvfb has no Looking Glass: a warning; a monitor named by its rectangle is checked
+    // against the panel; one that does not exist fails.
+    let fake = run(
+        &launcher(),
+        &["doctor", "--device", "portrait", "--monitor", "1536x2048+1920+0"],
+        &[],
+    );
+    let text = String::from_utf8_lossy(&fake.stdout).into_owned();
+    assert_success(&fake, &text);
+    assert!(
+        text.contains("ok    display: Looking Glass at --monitor 1536x2048+1920+0"),
+        "{text}"
+    );
+    let other = run(
+        &launcher(),
+        &["doctor", "--device", "portrait", "--monitor", "1920x1080+0+0"],
+        &[],
+    );
+    let text = String::from_utf8_lossy(&other.stdout).into_owned();
+    assert!(
+        text.contains("warn  display:") && text.contains("1536x2048 panel"),
+        "{text}"
+    );
+    let typo = run(&launcher(), &["doctor", "--monitor", "HDMI-9"], &[]);
+    let text = String::from_utf8_lossy(&typo.stdout).into_owned();
+    assert!(
+        !typo.status.success() && text.contains("fail  display: --monitor HDMI-9"),
+        "{text}"
+    );
 }
