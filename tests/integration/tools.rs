@@ -284,3 +284,15 @@ fn doctor_passes_here_and_names_what_breaks() {
         "{text}"
     );
 }
+
+#[test]
+fn recording_to_a_bad_name_or_place_is_refused_in_one_line() {
+    let r = run(&launcher(), &["run", "--record", "run.png", "--", "true"], &[]);
+    assert_one_line_failure(&r, "--record run.png", "a PNG as the video");
+    let r = run(
+        &launcher(),
+        &["run", "--record", "/nonexistent/run.mp4", "--", "true"],
+        &[],
+    );
+    assert_one_line_failure(&r, "cannot write into /nonexistent", "a missing directory");
+}
