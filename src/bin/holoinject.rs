@@ -1,6 +1,17 @@
 //! The launcher: parse, check, set the environment, `exec`. All option knowledge lives in
 //! `holoinject::config` so the layer and the launcher cannot disagree.
 
+#[path = "holoinject/checks.rs"]
+mod checks;
+#[path = "holoinject/doctor.rs"]
+mod doctor;
+#[path = "holoinject/probe.rs"]
+mod probe;
+#[path = "holoinject/probe_context.rs"]
+mod probe_context;
+#[path = "holoinject/quilt.rs"]
+mod quilt;
+
 use holoinject::config::cli::{self, Launch};
 use holoinject::config::preset;
 use std::ffi::{CString, OsString};
@@ -21,6 +32,9 @@ fn run() -> Result<(), String> {
         Some("run") if args.get(1).is_some_and(|a| a == "--help" || a == "-h") => print_help(),
         Some("run") => launch(cli::parse_run(&args[1..])?),
         Some("presets") => list_presets(),
+        Some("quilt") => quilt::run(&args[1..]),
+        Some("doctor") => doctor::run(&args[1..]),
+        Some("__probe") => probe::run(&args[1..]),
         Some("--version" | "-V") => {
             println!("holoinject {}", env!("CARGO_PKG_VERSION"));
             Ok(())
@@ -41,6 +55,7 @@ fn launch(mut plan: Launch) -> Result<(), String> {
     let lib = layer_library()?;
     let program = find_program(&plan.program)?;
     absolutise_dump_dir(&mut plan)?;
+    absolutise_record_path(&mut plan)?;
     absolutise_preset_path(&mut plan)?;
     let preset = chosen_preset(&plan, &program);
     cli::check_combinations(&plan, &|k| std::env::var(k).ok(), preset.as_ref().map(|c| &c.preset))?;
@@ -126,6 +141,21 @@ fn absolutise_dump_dir(plan: &mut Launch) -> Result<(), String> {
     std::fs::write(&probe, b"").map_err(|e| format!("--dump {}: not writable: {e}", path.display()))?;
     let _ = std::fs::remove_file(probe);
     *dir = path.to_string_lossy().into_owned();
+    Ok(())
+}
+
+/// As for `--dump`: the video's directory must exist and be writable now, and the path must
+/// survive the program changing directory.
+fn absolutise_record_path(plan: &mut Launch) -> Result<(), String> {
+    let Some((_, file)) = plan.env.iter_mut().find(|(k, _)| k == "HOLOINJECT_RECORD") else {
+        return Ok(());
+    };
+    let path = std::path::absolute(file.as_str()).map_err(|e| format!("--record {file}: {e}"))?;
+    let dir = path.parent().unwrap_or(Path::new("/"));
+    let probe = dir.join(".holoinject-write-test");
+    std::fs::write(&probe, b"").map_err(|e| format!("--record {file}: cannot write into {}: {e}", dir.display()))?;
+    let _ = std::fs::remove_file(probe);
+    *file = path.to_string_lossy().into_owned();
     Ok(())
 }
 

@@ -264,6 +264,8 @@ pub struct Settings {
     pub dump_dir: Option<PathBuf>,
     pub dump_frames: FrameSet,
     pub exit_after: Option<u64>,
+    /// `--record`: the video to write (its name gets the quilt tag).
+    pub record: Option<PathBuf>,
     pub osmesa_boundary: Boundary,
     pub view: ViewSettings,
 }
@@ -274,6 +276,7 @@ impl Default for Settings {
             dump_dir: None,
             dump_frames: FrameSet::Every(1),
             exit_after: None,
+            record: None,
             osmesa_boundary: Boundary::Finish,
             view: ViewSettings::default(),
         }
@@ -318,6 +321,7 @@ impl Settings {
             match opt.long {
                 "dump" => s.dump_dir = Some(PathBuf::from(value)),
                 "dump-frames" => s.dump_frames = parse::frames(&value).unwrap_or(FrameSet::Every(1)),
+                "record" => s.record = Some(PathBuf::from(value)),
                 "exit-after" => s.exit_after = parse::frame_number(&value).ok(),
                 "osmesa-boundary" => s.osmesa_boundary = parse::boundary(&value).unwrap_or(Boundary::Finish),
                 "output" => output = parse::output(&value).ok(),

@@ -78,6 +78,8 @@ pub static OPTIONS: &[OptDef] = &[
     opt("dump", "DIR", "write presented frames (and quilts) as PNG into DIR", super::parse::nonempty),
     opt("dump-frames", "LIST|every:N", "frames to dump, e.g. 1,10,30 or every:10 (default: every frame)",
         |v| super::parse::frames(v).map(|_| ())),
+    opt("record", "FILE.mp4", "record the quilt video with ffmpeg, named FILE_qs{C}x{R}a{aspect}.mp4 (the Looking Glass convention), at the program's measured frame rate",
+        super::parse::record_path),
     opt("exit-after", "N", "exit the program (status 0) right after frame N is presented and dumped",
         |v| super::parse::frame_number(v).map(|_| ())),
     opt("osmesa-boundary", "finish|flush", "call that ends a frame for OSMesa contexts, which never swap (default finish)",

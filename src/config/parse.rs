@@ -259,6 +259,20 @@ pub fn nonempty(v: &str) -> Result<(), String> {
     }
 }
 
+/// A video file ffmpeg can write a quilt into: `.mp4` (what Looking Glass players read),
+/// `.mkv` or `.mov`.
+pub fn record_path(v: &str) -> Result<(), String> {
+    nonempty(v)?;
+    let ext = std::path::Path::new(v)
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("");
+    match ext.to_ascii_lowercase().as_str() {
+        "mp4" | "mkv" | "mov" => Ok(()),
+        _ => Err("expected a video file name ending in .mp4 (or .mkv, .mov)".into()),
+    }
+}
+
 pub fn frame_number(v: &str) -> Result<u64, String> {
     match v.trim().parse::<u64>() {
         Ok(n) if n >= 1 => Ok(n),
@@ -286,6 +300,13 @@ pub fn boundary(v: &str) -> Result<Boundary, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn record_wants_a_video_name() {
+        assert!(record_path("run.mp4").is_ok() && record_path("a/b.MKV").is_ok());
+        assert!(record_path("run.png").unwrap_err().contains(".mp4"));
+        assert!(record_path(" ").is_err());
+    }
 
     #[test]
     fn monitor_is_a_name_or_x11_geometry() {

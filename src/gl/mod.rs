@@ -28,6 +28,7 @@ pub mod format;
 pub mod guard;
 mod info;
 pub use info::GlInfo;
+pub mod pbo;
 pub mod program;
 pub mod readback;
 

@@ -6,14 +6,14 @@ use super::GlInfo;
 use super::{Gl, types::GLenum};
 
 /// Saved read-side state; restored on drop.
-struct PixelStateGuard<'a> {
+pub(super) struct PixelStateGuard<'a> {
     gl: &'a Gl,
     info: GlInfo,
     read_fbo: i32,
     draw_fbo: i32,
     read_buffer: i32,
     pack_buffer: i32,
-    pack: Vec<(GLenum, i32)>,
+    pub(super) pack: Vec<(GLenum, i32)>,
 }
 
 fn pack_params(info: GlInfo) -> &'static [GLenum] {
@@ -42,7 +42,7 @@ fn get(gl: &Gl, pname: GLenum) -> i32 {
 }
 
 impl<'a> PixelStateGuard<'a> {
-    fn save(gl: &'a Gl, info: GlInfo) -> Self {
+    pub(super) fn save(gl: &'a Gl, info: GlInfo) -> Self {
         use super::*;
         let fbo = info.has_framebuffers();
         let split = fbo && info.has_gl3_features();

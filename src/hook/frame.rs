@@ -59,6 +59,12 @@ fn multiview_frame(frame: u64, surface: usize, settings: &Settings) {
         if let Err(e) = crate::output::device::present_frame(gl, presenter, mv, cur, window, settings) {
             log::once(&COMPOSE_FAILED, Level::Error, format_args!("{e}"));
         }
+        if let (Some(path), Some(t)) = (&settings.record, &mv.target) {
+            presenter.recorder.frame(gl, mv.info, t.resolved_fbo, t.layout, path);
+            if settings.exit_after == Some(frame) {
+                presenter.recorder.flush(gl);
+            }
+        }
         if settings.dumps(frame)
             && let Err(e) = presenter.dump(frame, gl, mv, settings)
         {
@@ -75,6 +81,7 @@ fn multiview_frame(frame: u64, surface: usize, settings: &Settings) {
 }
 
 fn exit_after(frame: u64) -> ! {
+    crate::output::record::finish();
     for line in [timing::summary(), log::costs::summary()].into_iter().flatten() {
         log::info(format_args!("{line}"));
     }

@@ -70,6 +70,10 @@ fn emit(l: Level, args: Arguments) {
     }
 }
 
+/// Logs at a level chosen at run time.
+pub fn at(l: Level, args: Arguments) {
+    emit(l, args)
+}
 pub fn error(args: Arguments) {
     emit(Level::Error, args)
 }

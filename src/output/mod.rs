@@ -11,11 +11,15 @@ pub mod device;
 pub mod device_image;
 pub mod device_window;
 pub mod dump;
+pub mod encoder;
 pub mod glx;
 pub mod monitor;
 pub mod native;
 pub mod pass;
 pub mod png;
+pub mod quilt_file;
+pub mod quilt_name;
+pub mod record;
 pub mod staging;
 pub mod timing;
 pub mod weave;
@@ -36,6 +40,8 @@ pub struct Presenter {
     /// The same for the device window (`--present device`), which has another size: kept
     /// apart so neither is remade every frame.
     pub device_staging: Option<staging::Staging>,
+    /// `--record`: this context's read-back buffers, when it records.
+    pub recorder: record::Recorder,
 }
 
 impl Presenter {
@@ -76,6 +82,7 @@ impl Presenter {
         o.textures.extend(self.staging.as_ref().map(|s| s.color));
         o.textures.extend(self.device_staging.as_ref().map(|s| s.color));
         o.programs.extend(self.passes.programs());
+        o.buffers.extend(self.recorder.buffers());
         o.without_zeros()
     }
 }

@@ -25,3 +25,4 @@ mod reuse;
 mod sample_apps;
 mod synthesis;
 mod synthesis_pixel;
+mod tools;
