@@ -79,8 +79,12 @@ pub fn warp(gl: &Gl, mv: &mut Multiview) {
     {
         m.keep_reference(gl, mv.info, t);
     }
-    let kept = super::reuse::at_warp(gl, mv);
-    if let Err(e) = try_warp(gl, mv, &kept) {
+    let reused = super::reuse::at_warp(gl, mv);
+    let result = try_warp(gl, mv, &reused.filled);
+    if result.is_ok() {
+        super::reuse::move_kept(gl, mv, &reused.moved);
+    }
+    if let Err(e) = result {
         log::once(
             &FAILED,
             Level::Warn,

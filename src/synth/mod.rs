@@ -23,6 +23,7 @@ mod grid;
 mod pixel;
 mod profile;
 mod pull_push;
+pub mod reproject;
 mod resources;
 mod rows;
 
