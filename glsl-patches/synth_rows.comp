@@ -25,6 +25,10 @@ layout(std430, binding = 2) buffer Targets_out { Out out_pixels[]; };
 // Pixels filled because nothing of the sources landed there (disocclusions, and what comes
 // into view beyond the edge), as written: an upper bound of the holes of the final views.
 layout(std430, binding = 3) buffer Holes { uint holes; };
+// With u_mark: per output pixel, 1 where the pixel that won is a stretch over a hole (what
+// --reuse's kept views may replace, synth/reproject.rs), else 0.
+layout(std430, binding = 4) buffer Marks { uint marks[]; };
+uniform int u_mark;
 uniform ivec2 u_tile;
 uniform int u_targets;
 // (s, f) times half the tile width: pixels per unit of parallax, and of focus.
@@ -53,12 +57,15 @@ bool nearer(float a, float b)
     return u_reversed == 1 ? a >= b : a <= b;
 }
 
-bool put(int x, vec4 c, float z)
+bool put(int x, vec4 c, float z, bool hole)
 {
     int i = out_base + x;
     if (nearer(z, out_pixels[i].depth)) {
         out_pixels[i].depth = z;
         out_pixels[i].color = packUnorm4x8(c);
+        if (u_mark == 1) {
+            marks[i] = hole ? 1u : 0u;
+        }
         return true;
     }
     return false;
@@ -76,7 +83,7 @@ void fill(float a, float b, vec4 c, float z, bool hole)
     ivec2 r = covered(a, b);
     uint n = 0u;
     for (int i = r.x; i < r.y; i++) {
-        n += put(i, c, z) ? 1u : 0u;
+        n += put(i, c, z, hole) ? 1u : 0u;
     }
     if (hole && n > 0u) {
         atomicAdd(holes, n);
@@ -112,7 +119,7 @@ void scan(int src, float du)
             float inv = 1.0 / (X - px);
             for (int i = r.x; i < r.y; i++) {
                 float t = clamp((float(i) + 0.5 - px) * inv, 0.0, 1.0);
-                put(i, mix(pc, c, t), mix(pz, z, t));
+                put(i, mix(pc, c, t), mix(pz, z, t), false);
             }
         } else {
             fill(px, px + 0.5, pc, pz, false);
@@ -146,6 +153,9 @@ void main()
     float far = u_reversed == 1 ? 0.0 : 1.0;
     for (int x = 0; x < width; x++) {
         out_pixels[out_base + x] = Out(0u, far);
+        if (u_mark == 1) {
+            marks[out_base + x] = 1u;
+        }
     }
     Target t = targets[layer];
     if (t.src.z == 2) {

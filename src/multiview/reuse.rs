@@ -132,7 +132,9 @@ pub struct Reused {
 /// depth model known, and the scene's depth in the quilt (what the history keeps).
 fn camera_now(mv: &mut Multiview) -> Option<[f64; 16]> {
     let in_quilt = mv.scene.tracker.target.is_none_or(|t| t == 0);
-    let usable = mv.settings.reuse_motion.is_some() && in_quilt && mv.camera.last_depth.is_some();
+    // Only the row warp marks the holes kept views fill (`synth::reproject`).
+    let rows = mv.settings.synth_warp == crate::config::SynthWarp::Rows && !mv.plan.per_pixel;
+    let usable = mv.settings.reuse_motion.is_some() && in_quilt && rows && mv.camera.last_depth.is_some();
     let vp = mv.reuse.as_mut()?.camera.take();
     if vp.is_some() && !in_quilt {
         log::once(
@@ -250,6 +252,9 @@ pub fn move_kept(gl: &Gl, mv: &mut Multiview, moved: &[(u32, [f64; 16])]) {
         return;
     };
     let (rig, info, layout) = (mv.camera.rig, mv.info, quilt.layout);
+    let Some(marks) = mv.synth.hole_marks() else { return };
+    // The synthesis' targets: every view not rendered (none was filled from the history).
+    let targets: Vec<u32> = (0..layout.views()).filter(|v| !mv.plan.rendered.contains(v)).collect();
     let Some(r) = mv.reuse.as_mut() else { return };
     let Some(h) = r.history.as_ref() else { return };
     let views: Vec<MovedView> = moved
@@ -259,6 +264,7 @@ pub fn move_kept(gl: &Gl, mv: &mut Multiview, moved: &[(u32, [f64; 16])]) {
             MovedView {
                 origin: h.origin(v),
                 rect: layout.tile_rect(v),
+                layer: targets.iter().position(|&t| t == v).unwrap_or(0) as i32,
                 motion,
                 offset,
             }
@@ -275,6 +281,7 @@ pub fn move_kept(gl: &Gl, mv: &mut Multiview, moved: &[(u32, [f64; 16])]) {
         depth_model,
         reversed: depth_model.b > 0.0,
         tolerance,
+        marks,
         views: &views,
     };
     if let Err(e) = r.reprojector.run(gl, info, &job) {

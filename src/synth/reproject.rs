@@ -31,6 +31,8 @@ pub struct MovedView {
     pub origin: (i32, i32),
     /// Its tile in the destination framebuffer.
     pub rect: [i32; 4],
+    /// Its index among the synthesis job's targets (its hole marks).
+    pub layer: i32,
     /// `clip ↦ motion · clip + offset` (column-major).
     pub motion: [f64; 16],
     pub offset: [f64; 4],
@@ -50,6 +52,8 @@ pub struct ReprojectJob<'a> {
     pub reversed: bool,
     /// Relative eye-distance tolerance of the merge.
     pub tolerance: f64,
+    /// The row warp's hole marks (`Synthesizer::hole_marks`).
+    pub marks: u32,
     pub views: &'a [MovedView],
 }
 
@@ -97,7 +101,14 @@ impl Reprojector {
             .depth_func()
             .depth_range()
             .textures(TEXTURE_2D, TEXTURE_BINDING_2D, 0..3)
-            .samplers(0..3);
+            .samplers(0..3)
+            .indexed_buffers(
+                SHADER_STORAGE_BUFFER,
+                SHADER_STORAGE_BUFFER_BINDING,
+                SHADER_STORAGE_BUFFER_START,
+                SHADER_STORAGE_BUFFER_SIZE,
+                4..5,
+            );
         crate::gl::guard::neutral_pass_state(gl, info);
         let compatibility = super::pixel::compatibility(gl);
         let _points = super::pixel::guard(gl, info, compatibility);
@@ -107,10 +118,14 @@ impl Reprojector {
         // SAFETY: our vertex array; the binding is restored by the guard.
         unsafe { gl.BindVertexArray(self.vao) };
         let zero_to_one = super::grid::zero_to_one(gl) as i32;
+        let mut profile = super::profile::Profile::new(gl);
         for v in job.views {
             self.copy_synthesised_depth(gl, job, v.rect);
+            profile.lap("reproject depth copy");
             self.splat(gl, splat, job, v, zero_to_one);
-            self.merge(gl, merge, job, v.rect, zero_to_one);
+            profile.lap("reproject splat");
+            self.merge(gl, merge, job, v, zero_to_one);
+            profile.lap("reproject merge");
         }
         Ok(())
     }
@@ -207,7 +222,8 @@ impl Reprojector {
     }
 
     /// The canvas over the tile where it agrees with the synthesised depth.
-    fn merge(&self, gl: &Gl, program: u32, job: &ReprojectJob, [x, y, w, h]: [i32; 4], zero_to_one: i32) {
+    fn merge(&self, gl: &Gl, program: u32, job: &ReprojectJob, v: &MovedView, zero_to_one: i32) {
+        let [x, y, w, h] = v.rect;
         let loc = |n| super::grid::loc(gl, program, n);
         let m = job.depth_model;
         // SAFETY: our program and textures into the destination tile; state restored by the
@@ -228,6 +244,9 @@ impl Reprojector {
             gl.Uniform2f(loc("u_model"), m.a as f32, m.b as f32);
             gl.Uniform1i(loc("u_zero_to_one"), zero_to_one);
             gl.Uniform1f(loc("u_tolerance"), job.tolerance as f32);
+            gl.BindBufferBase(SHADER_STORAGE_BUFFER, 4, job.marks);
+            gl.Uniform1i(loc("u_layer"), v.layer);
+            gl.Uniform2i(loc("u_tile"), job.tile.0, job.tile.1);
             gl.DrawArrays(TRIANGLES, 0, 3);
             gl.ColorMask(TRUE, TRUE, TRUE, TRUE);
         }
