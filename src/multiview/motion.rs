@@ -121,12 +121,13 @@ mod tests {
         t.see(1, &[0], &[(0, m(1.0))]);
         t.see(1, &[0], &[(0, m(2.0))]);
         assert_eq!(t.take(), None);
-        // A built-in chain, a matrix never uploaded, nothing drawn: unknown.
+        // A built-in chain, nothing drawn: unknown.
         t.see(0, &[], &[]);
         assert_eq!(t.take(), None);
+        assert_eq!(t.take(), None);
+        // A model matrix never uploaded: the rest of the chain is still the camera.
         t.see(1, &[0, 1], &[(0, m(1.0))]);
-        assert_eq!(t.take(), None);
-        assert_eq!(t.take(), None);
+        assert_eq!(t.take().map(|v| v[12]), Some(1.0));
         // Singular: unknown.
         t.see(1, &[0], &[(0, [0.0; 16])]);
         assert_eq!(t.take(), None);

@@ -23,9 +23,29 @@
 //!
 //! After a change, the next frame renders the K evenly spaced views of plain `hybrid:K`
 //! (and the centre), so a moving scene looks as it does without `--reuse`; rotation resumes
-//! once a frame is judged unchanged. What is not done: a kept view is not reprojected by the
-//! camera's motion (a moving camera is a change), and a change seen by none of the rendered
-//! views (an object visible only in views not rendered this frame) is not caught.
+//! once a frame is judged unchanged.
+//!
+//! **A moving camera** (`--reuse-motion`, on by default) is not a change when the camera can
+//! be followed: its view-projection is read from the matrices of the `gl_Position` chain
+//! (`motion`) and each kept view remembers the one it was rendered with. When the camera
+//! has moved since the centre view was kept, kept views can no longer be compared pixel for
+//! pixel, and the epoch goes on; rotation goes on too, so every view is re-rendered every P
+//! frames. A kept view is then not copied but moved after the synthesis, by
+//! `VP_now · VP_then⁻¹` seen through its own shift (`camera::ViewRig::clip_motion`, f64), and
+//! merged into the synthesised view pixel by pixel (`synth::reproject`): it replaces only the
+//! stretches the row warp made over disocclusions, where it agrees in depth with the
+//! stretch. Measured on `cubes`, it is less accurate than the warp elsewhere (one-pixel
+//! points resample every edge, the warp only vertical ones), and a moving object is nearer
+//! or farther than the background it uncovered, so it is dropped there, not smeared. An
+//! unmoved camera takes the path above, bit for bit. The camera is not followed (motion is
+//! a change, as before) where it cannot be read (one MVP per object, built-in or block-held
+//! matrices: said once at debug), where the scene is drawn off-screen (its depth is not
+//! kept), or under the grid and per-pixel warps (no hole marks).
+//!
+//! What is not done: a change seen by none of the rendered views (an object visible only in
+//! views not rendered this frame) is not caught; with a moving camera, a change of colour
+//! without a change of depth (a light, an animated texture) inside a disocclusion is not
+//! either.
 
 use super::Multiview;
 use super::rotation::{Change, Rotation, Signature};
@@ -149,7 +169,9 @@ fn camera_now(mv: &mut Multiview) -> Option<[f64; 16]> {
 /// At the warp point, before the synthesised views are made: judges whether the scene
 /// changed, keeps the rendered views, and copies the still-valid kept views seen through
 /// this frame's camera into their tiles (the synthesis leaves those alone); kept views seen
-/// through another camera are returned to be moved after the synthesis.
+/// through another camera are returned to be moved after the synthesis. (Once the camera
+/// stops, views kept while it moved are still moved, by the last part of its motion, until
+/// each is rendered again.)
 pub fn at_warp(gl: &Gl, mv: &mut Multiview) -> Reused {
     let signature = signature(mv);
     let camera = camera_now(mv);
@@ -189,15 +211,21 @@ pub fn at_warp(gl: &Gl, mv: &mut Multiview) -> Reused {
         return Reused::default();
     };
     let rot = &mut r.rotation;
-    // The camera moved since the centre view was kept: kept views cannot be compared pixel for
-    // pixel any more; each is moved and merged pixel by pixel instead.
-    let moving = camera.is_some() && rot.valid(rot.centre()) && rot.kept_camera(rot.centre()) != camera;
+    // Kept through this frame's camera (or the camera is not followed): valid pixel for pixel.
+    let through_now = |rot: &Rotation, v: u32| camera.is_none() || rot.kept_camera(v) == camera;
+    // The camera moved since the centre view was kept: there is nothing to compare pixel for
+    // pixel; kept views are moved and merged pixel by pixel instead.
+    let moving = camera.is_some() && rot.valid(rot.centre()) && !through_now(rot, rot.centre());
     let change = if rot.check_signature(signature) {
         Some(Change::Signature)
     } else if moving {
         None
     } else {
-        let compare = rot.comparable(&rendered);
+        let compare: Vec<u32> = rot
+            .comparable(&rendered)
+            .into_iter()
+            .filter(|&v| through_now(rot, v))
+            .collect();
         match history.differing(gl, info, quilt, &compare) {
             Some(0) => None,
             Some(n) => Some(Change::Pixels(n)),
@@ -212,13 +240,15 @@ pub fn at_warp(gl: &Gl, mv: &mut Multiview) -> Reused {
     }
     rot.judge(change);
     history.store(gl, info, quilt, &rendered);
-    let kept = rot.from_history(&rendered);
-    let reused = match camera.filter(|_| moving) {
-        None => Reused { filled: kept, moved: vec![] },
-        Some(now) => Reused {
-            filled: vec![],
-            moved: kept.iter().filter_map(|&v| Some((v, motion(rot.kept_camera(v)?, &now)?))).collect(),
-        },
+    let (filled, other): (Vec<u32>, Vec<u32>) = rot
+        .from_history(&rendered)
+        .into_iter()
+        .partition(|&v| !moving && through_now(rot, v));
+    let reused = Reused {
+        filled,
+        moved: camera.map_or(vec![], |now| {
+            other.iter().filter_map(|&v| Some((v, motion(rot.kept_camera(v)?, &now)?))).collect()
+        }),
     };
     rot.kept(&rendered, camera);
     history.restore(gl, info, quilt, &reused.filled);
@@ -259,15 +289,15 @@ pub fn move_kept(gl: &Gl, mv: &mut Multiview, moved: &[(u32, [f64; 16])]) {
     let Some(h) = r.history.as_ref() else { return };
     let views: Vec<MovedView> = moved
         .iter()
-        .map(|&(v, d)| {
+        .filter_map(|&(v, d)| {
             let (motion, offset) = rig.clip_motion(v, &d);
-            MovedView {
+            Some(MovedView {
                 origin: h.origin(v),
                 rect: layout.tile_rect(v),
-                layer: targets.iter().position(|&t| t == v).unwrap_or(0) as i32,
-                motion,
+                layer: targets.iter().position(|&t| t == v)? as i32,
+                back: crate::camera::invert(&motion)?,
                 offset,
-            }
+            })
         })
         .collect();
     let (color, depth) = h.textures();
@@ -279,7 +309,6 @@ pub fn move_kept(gl: &Gl, mv: &mut Multiview, moved: &[(u32, [f64; 16])]) {
         depth_format: h.depth_format(),
         tile: (layout.tile_w as i32, layout.tile_h as i32),
         depth_model,
-        reversed: depth_model.b > 0.0,
         tolerance,
         marks,
         views: &views,

@@ -59,13 +59,13 @@ impl Programs {
 /// GL_POINT_SMOOTH exists (and would turn coverage into partial alpha) in compatibility
 /// contexts only; touching it in a core context is an error the app could see. (Every
 /// context that gets here is GL 4.3, which has the profile mask.)
-pub(super) fn compatibility(gl: &Gl) -> bool {
+fn compatibility(gl: &Gl) -> bool {
     get_i(gl, CONTEXT_PROFILE_MASK) as u32 & CONTEXT_COMPATIBILITY_PROFILE_BIT != 0
 }
 
 /// One-pixel points whatever the app left set; no sampler object of the app's overriding our
 /// textures' filtering (the grid's guard restores units 0..5).
-pub(super) fn neutral_point_state(gl: &Gl, compatibility: bool) {
+fn neutral_point_state(gl: &Gl, compatibility: bool) {
     // SAFETY: state the guards restore; POINT_SMOOTH only where it exists.
     unsafe {
         gl.Enable(PROGRAM_POINT_SIZE);
@@ -80,7 +80,7 @@ pub(super) fn neutral_point_state(gl: &Gl, compatibility: bool) {
 
 /// What the per-pixel passes change beyond the grid's guard: the 2D texture units of the
 /// pyramid and the point state.
-pub(super) fn guard(gl: &Gl, info: GlInfo, compatibility: bool) -> StateGuard<'_> {
+fn guard(gl: &Gl, info: GlInfo, compatibility: bool) -> StateGuard<'_> {
     let g = StateGuard::new(gl, info)
         .textures(TEXTURE_2D, TEXTURE_BINDING_2D, 2..5)
         .caps(&[PROGRAM_POINT_SIZE]);

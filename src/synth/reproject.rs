@@ -2,27 +2,28 @@
 //! rendered points and reprojects them into the new camera).
 //!
 //! A view rendered a few frames ago, with the camera elsewhere, is still exact for the
-//! static parts of the scene once each of its pixels is put where the camera sees it now.
-//! Its pixels are not on a grid any more (the motion is a general 2D warp, not a
-//! disparity), so they are forward-splatted one point each, depth-tested (nearer wins), into
-//! a canvas of ours, as `synth:pixel` splats (`pixel`); the motion of a pixel is one matrix
-//! and offset in clip space (`camera::ViewRig::clip_motion`), made in f64 on the CPU.
+//! static parts of the scene once its pixels are put where the camera sees them now. Where
+//! that helps is known: the tile already holds this frame's synthesised view, right wherever
+//! the rendered views saw the surface, moving objects included, and a guess only over the
+//! disocclusions, which the row warp stretches the farther side over and marks. So only
+//! those pixels are looked up, backwards (reverse reprojection): the stretch's depth, moved
+//! back by the inverse of the view's clip-space motion (`camera::ViewRig::clip_motion`, made
+//! in f64 on the CPU), lands on a pixel of the kept render, taken when its own depth agrees
+//! with the moved point's within a tolerance (`glsl-patches/reuse_reproject.frag`).
 //!
-//! The tile already holds this frame's synthesised view, which is right for moving objects
-//! but has holes filled by stretching where the rendered views did not see. The merge keeps
-//! a splatted pixel only where its eye distance agrees with the synthesised one's within a
-//! tolerance: where they disagree (a moving object, now elsewhere or hiding it) or nothing
-//! was splatted (cracks, what came into view) the synthesised pixel stays. So a moved kept
-//! view sharpens static parts and fills disocclusions, and never smears what moved.
+//! Why not a forward splat of every kept pixel (`synth::pixel`'s points) merged where it
+//! agrees in depth with the synthesised view: measured on `cubes` orbiting (README
+//! "--reuse"), it doubled the frame time (a point per pixel per view through llvmpipe's
+//! rasteriser) and, taken outside the holes, lowered the PSNR: one-pixel points resample
+//! every edge, the row warp only vertical ones. Restricted to the holes it gained what this
+//! gains, for a full-tile pass less.
 
 use crate::gl::GlInfo;
 use crate::gl::guard::StateGuard;
 use crate::gl::*;
 
-const SPLAT_VERT: &str = include_str!("../../glsl-patches/reuse_reproject.vert");
-const SPLAT_FRAG: &str = include_str!("../../glsl-patches/synth_splat.frag");
 const FULLSCREEN_VERT: &str = include_str!("../../glsl-patches/fullscreen.vert");
-const MERGE_FRAG: &str = include_str!("../../glsl-patches/reuse_merge.frag");
+const REPROJECT_FRAG: &str = include_str!("../../glsl-patches/reuse_reproject.frag");
 
 /// One kept view to move into its tile.
 #[derive(Clone, Copy, Debug)]
@@ -33,8 +34,9 @@ pub struct MovedView {
     pub rect: [i32; 4],
     /// Its index among the synthesis job's targets (its hole marks).
     pub layer: i32,
-    /// `clip ↦ motion · clip + offset` (column-major).
-    pub motion: [f64; 16],
+    /// Its motion `clip ↦ m · clip + offset` given by `back = m⁻¹` (column-major) and
+    /// `offset`.
+    pub back: [f64; 16],
     pub offset: [f64; 4],
 }
 
@@ -49,7 +51,6 @@ pub struct ReprojectJob<'a> {
     pub tile: (i32, i32),
     /// The depth model `z_ndc = -a + b/w`.
     pub depth_model: crate::camera::projection::DepthRange,
-    pub reversed: bool,
     /// Relative eye-distance tolerance of the merge.
     pub tolerance: f64,
     /// The row warp's hole marks (`Synthesizer::hole_marks`).
@@ -57,13 +58,13 @@ pub struct ReprojectJob<'a> {
     pub views: &'a [MovedView],
 }
 
-/// Per-context state: programs, the canvas and the copy of the synthesised depth.
+/// Per-context state: the program and the copy of a tile's synthesised depth.
 #[derive(Default)]
 pub struct Reprojector {
-    programs: Option<Result<[u32; 2], String>>,
-    /// Canvas colour, canvas depth, synthesised depth; their framebuffers; the key.
-    textures: [u32; 3],
-    fbos: [u32; 2],
+    program: Option<Result<u32, String>>,
+    /// The depth copy's texture and framebuffer, and what they were made for.
+    texture: u32,
+    fbo: u32,
     vao: u32,
     made_for: Option<((i32, i32), GLenum)>,
 }
@@ -89,8 +90,8 @@ fn depth_point(format: GLenum) -> GLenum {
 }
 
 impl Reprojector {
-    /// Moves every view of `job` into its tile over the synthesised view there. All state it
-    /// touches is put back.
+    /// Fetches every view of `job` into the holes of its tile. All state it touches is put
+    /// back.
     pub fn run(&mut self, gl: &Gl, info: GlInfo, job: &ReprojectJob) -> Result<(), String> {
         if job.views.is_empty() {
             return Ok(());
@@ -98,8 +99,6 @@ impl Reprojector {
         let _guard = StateGuard::new(gl, info)
             .framebuffers()
             .for_pass()
-            .depth_func()
-            .depth_range()
             .textures(TEXTURE_2D, TEXTURE_BINDING_2D, 0..3)
             .samplers(0..3)
             .indexed_buffers(
@@ -110,67 +109,49 @@ impl Reprojector {
                 4..5,
             );
         crate::gl::guard::neutral_pass_state(gl, info);
-        let compatibility = super::pixel::compatibility(gl);
-        let _points = super::pixel::guard(gl, info, compatibility);
-        super::pixel::neutral_point_state(gl, compatibility);
-        let [splat, merge] = self.programs(gl, info)?;
+        let program = self.program(gl, info)?;
         self.make(gl, job)?;
-        // SAFETY: our vertex array; the binding is restored by the guard.
-        unsafe { gl.BindVertexArray(self.vao) };
-        let zero_to_one = super::grid::zero_to_one(gl) as i32;
+        self.prepare(gl, program, job);
         let mut profile = super::profile::Profile::new(gl);
         for v in job.views {
             self.copy_synthesised_depth(gl, job, v.rect);
             profile.lap("reproject depth copy");
-            self.splat(gl, splat, job, v, zero_to_one);
-            profile.lap("reproject splat");
-            self.merge(gl, merge, job, v, zero_to_one);
-            profile.lap("reproject merge");
+            self.fetch(gl, program, job, v);
+            profile.lap("reproject fetch");
         }
         Ok(())
     }
 
-    fn programs(&mut self, gl: &Gl, info: GlInfo) -> Result<[u32; 2], String> {
-        if self.programs.is_none() {
-            let link = |v, f| crate::gl::program::link(gl, info, v, f);
-            let p = link(SPLAT_VERT, SPLAT_FRAG)
-                .and_then(|s| Ok([s, link(FULLSCREEN_VERT, MERGE_FRAG)?]))
-                .map_err(|e| format!("reprojection passes: {e}"));
-            self.programs = Some(p);
+    fn program(&mut self, gl: &Gl, info: GlInfo) -> Result<u32, String> {
+        if self.program.is_none() {
+            let p = crate::gl::program::link(gl, info, FULLSCREEN_VERT, REPROJECT_FRAG);
+            self.program = Some(p.map_err(|e| format!("reprojection pass: {e}")));
         }
-        self.programs.clone().unwrap_or(Err("unlinked".into()))
+        self.program.clone().unwrap_or(Err("unlinked".into()))
     }
 
-    /// The canvas and the depth copy for `job`'s tile and depth format, (re)made on change.
+    /// The depth copy for `job`'s tile and depth format, (re)made on change.
     fn make(&mut self, gl: &Gl, job: &ReprojectJob) -> Result<(), String> {
         let key = (job.tile, job.depth_format);
         if self.made_for == Some(key) {
             return Ok(());
         }
         self.delete_images(gl);
-        self.textures = [
-            texture(gl, RGBA16F, job.tile),
-            texture(gl, DEPTH_COMPONENT32F, job.tile),
-            texture(gl, job.depth_format, job.tile),
-        ];
-        // SAFETY: our own framebuffers and vertex array; bindings restored by the guard.
+        self.texture = texture(gl, job.depth_format, job.tile);
+        // SAFETY: our own framebuffer and vertex array; bindings restored by the guard.
         unsafe {
             if self.vao == 0 {
                 gl.GenVertexArrays(1, &mut self.vao);
             }
-            gl.GenFramebuffers(2, self.fbos.as_mut_ptr());
-            gl.BindFramebuffer(FRAMEBUFFER, self.fbos[0]);
-            gl.FramebufferTexture2D(FRAMEBUFFER, COLOR_ATTACHMENT0, TEXTURE_2D, self.textures[0], 0);
-            gl.FramebufferTexture2D(FRAMEBUFFER, DEPTH_ATTACHMENT, TEXTURE_2D, self.textures[1], 0);
-            let canvas = gl.CheckFramebufferStatus(FRAMEBUFFER);
-            gl.BindFramebuffer(FRAMEBUFFER, self.fbos[1]);
+            gl.GenFramebuffers(1, &mut self.fbo);
+            gl.BindFramebuffer(FRAMEBUFFER, self.fbo);
             let point = depth_point(job.depth_format);
-            gl.FramebufferTexture2D(FRAMEBUFFER, point, TEXTURE_2D, self.textures[2], 0);
+            gl.FramebufferTexture2D(FRAMEBUFFER, point, TEXTURE_2D, self.texture, 0);
             gl.DrawBuffer(NONE);
             gl.ReadBuffer(NONE);
-            let copy = gl.CheckFramebufferStatus(FRAMEBUFFER);
-            if canvas != FRAMEBUFFER_COMPLETE || copy != FRAMEBUFFER_COMPLETE {
-                return Err(format!("reprojection framebuffers incomplete ({canvas:#x}, {copy:#x})"));
+            let status = gl.CheckFramebufferStatus(FRAMEBUFFER);
+            if status != FRAMEBUFFER_COMPLETE {
+                return Err(format!("reprojection depth copy incomplete ({status:#x})"));
             }
         }
         self.made_for = Some(key);
@@ -182,93 +163,69 @@ impl Reprojector {
         // SAFETY: a same-format depth blit between framebuffers; bindings restored by the guard.
         unsafe {
             gl.BindFramebuffer(READ_FRAMEBUFFER, job.dest_fbo);
-            gl.BindFramebuffer(DRAW_FRAMEBUFFER, self.fbos[1]);
+            gl.BindFramebuffer(DRAW_FRAMEBUFFER, self.fbo);
             gl.BlitFramebuffer(x, y, x + w, y + h, 0, 0, w, h, DEPTH_BUFFER_BIT, NEAREST);
         }
     }
 
-    /// The canvas cleared (coverage 0, depth far) and every pixel of `v`'s kept render
-    /// splatted where the camera sees it now.
-    fn splat(&self, gl: &Gl, program: u32, job: &ReprojectJob, v: &MovedView, zero_to_one: i32) {
+    /// What every view shares: program, textures, marks, the depth model.
+    fn prepare(&self, gl: &Gl, program: u32, job: &ReprojectJob) {
         let loc = |n| super::grid::loc(gl, program, n);
-        let far = if job.reversed { 0.0f32 } else { 1.0 };
         let m = job.depth_model;
-        let (motion, offset) = (v.motion.map(|x| x as f32), v.offset.map(|x| x as f32));
-        // SAFETY: our framebuffer, program and textures; state restored by the guard.
+        // SAFETY: our program, textures and buffer; state restored by the guard. Alpha is
+        // left as the synthesis wrote it, and so is depth (depth test and writes are off).
         unsafe {
-            gl.BindFramebuffer(DRAW_FRAMEBUFFER, self.fbos[0]);
-            gl.Viewport(0, 0, job.tile.0, job.tile.1);
-            gl.DepthMask(TRUE);
-            gl.ClearBufferfv(COLOR, 0, [0.0f32; 4].as_ptr());
-            gl.ClearBufferfv(DEPTH, 0, &far);
-            gl.Enable(DEPTH_TEST);
-            gl.DepthFunc(if job.reversed { GREATER } else { LESS });
-            gl.DepthRange(0.0, 1.0);
             gl.UseProgram(program);
-            bind(gl, 0, job.color);
-            bind(gl, 1, job.depth);
-            gl.Uniform1i(loc("u_color"), 0);
-            gl.Uniform1i(loc("u_depth"), 1);
-            gl.Uniform2i(loc("u_origin"), v.origin.0, v.origin.1);
-            gl.Uniform1i(loc("u_flip"), job.flipped as i32);
-            gl.Uniform2i(loc("u_tile"), job.tile.0, job.tile.1);
-            gl.UniformMatrix4fv(loc("u_motion"), 1, FALSE, motion.as_ptr());
-            gl.Uniform4fv(loc("u_offset"), 1, offset.as_ptr());
-            gl.Uniform2f(loc("u_model"), m.a as f32, m.b as f32);
-            gl.Uniform1f(loc("u_far"), far);
-            gl.Uniform1i(loc("u_zero_to_one"), zero_to_one);
-            gl.DrawArrays(POINTS, 0, job.tile.0 * job.tile.1);
-        }
-    }
-
-    /// The canvas over the tile where it agrees with the synthesised depth.
-    fn merge(&self, gl: &Gl, program: u32, job: &ReprojectJob, v: &MovedView, zero_to_one: i32) {
-        let [x, y, w, h] = v.rect;
-        let loc = |n| super::grid::loc(gl, program, n);
-        let m = job.depth_model;
-        // SAFETY: our program and textures into the destination tile; state restored by the
-        // guard. Alpha is left as the synthesis wrote it.
-        unsafe {
-            gl.BindFramebuffer(DRAW_FRAMEBUFFER, job.dest_fbo);
-            gl.Viewport(x, y, w, h);
-            gl.DepthFunc(ALWAYS);
+            gl.BindVertexArray(self.vao);
             gl.ColorMask(TRUE, TRUE, TRUE, FALSE);
-            gl.UseProgram(program);
-            for (unit, t) in self.textures.iter().enumerate() {
-                bind(gl, unit as u32, *t);
+            for (unit, t) in [job.color, job.depth, self.texture].into_iter().enumerate() {
+                bind(gl, unit as u32, t);
             }
             gl.Uniform1i(loc("u_kept"), 0);
             gl.Uniform1i(loc("u_kept_depth"), 1);
             gl.Uniform1i(loc("u_synth_depth"), 2);
-            gl.Uniform2i(loc("u_rect_origin"), x, y);
+            gl.Uniform1i(loc("u_flip"), job.flipped as i32);
+            gl.Uniform2i(loc("u_tile"), job.tile.0, job.tile.1);
             gl.Uniform2f(loc("u_model"), m.a as f32, m.b as f32);
-            gl.Uniform1i(loc("u_zero_to_one"), zero_to_one);
+            gl.Uniform1i(loc("u_zero_to_one"), super::grid::zero_to_one(gl) as i32);
             gl.Uniform1f(loc("u_tolerance"), job.tolerance as f32);
             gl.BindBufferBase(SHADER_STORAGE_BUFFER, 4, job.marks);
+        }
+    }
+
+    /// The kept pixels of `v` into the holes of its tile.
+    fn fetch(&self, gl: &Gl, program: u32, job: &ReprojectJob, v: &MovedView) {
+        let loc = |n| super::grid::loc(gl, program, n);
+        let [x, y, w, h] = v.rect;
+        let (back, offset) = (v.back.map(|x| x as f32), v.offset.map(|x| x as f32));
+        // SAFETY: our program into the destination tile; state restored by the guard.
+        unsafe {
+            gl.BindFramebuffer(DRAW_FRAMEBUFFER, job.dest_fbo);
+            gl.Viewport(x, y, w, h);
+            gl.Uniform2i(loc("u_origin"), v.origin.0, v.origin.1);
+            gl.Uniform2i(loc("u_rect_origin"), x, y);
             gl.Uniform1i(loc("u_layer"), v.layer);
-            gl.Uniform2i(loc("u_tile"), job.tile.0, job.tile.1);
+            gl.UniformMatrix4fv(loc("u_back"), 1, FALSE, back.as_ptr());
+            gl.Uniform4fv(loc("u_offset"), 1, offset.as_ptr());
             gl.DrawArrays(TRIANGLES, 0, 3);
-            gl.ColorMask(TRUE, TRUE, TRUE, TRUE);
         }
     }
 
     fn delete_images(&mut self, gl: &Gl) {
         // SAFETY: deleting our own objects; zero names are ignored.
         unsafe {
-            gl.DeleteTextures(3, self.textures.as_ptr());
-            gl.DeleteFramebuffers(2, self.fbos.as_ptr());
+            gl.DeleteTextures(1, &self.texture);
+            gl.DeleteFramebuffers(1, &self.fbo);
         }
-        self.textures = [0; 3];
-        self.fbos = [0; 2];
-        self.made_for = None;
+        (self.texture, self.fbo, self.made_for) = (0, 0, None);
     }
 
     pub fn delete(&mut self, gl: &Gl) {
         self.delete_images(gl);
-        if let Some(Ok(p)) = self.programs.take() {
-            // SAFETY: our own programs and vertex array.
+        if let Some(Ok(p)) = self.program.take() {
+            // SAFETY: our own program and vertex array.
             unsafe {
-                p.iter().for_each(|&p| gl.DeleteProgram(p));
+                gl.DeleteProgram(p);
                 gl.DeleteVertexArrays(1, &self.vao);
             }
         }
@@ -277,16 +234,16 @@ impl Reprojector {
 
     /// Per-context objects: (framebuffers, vertex arrays).
     pub fn context_objects(&self) -> (usize, usize) {
-        (self.fbos.iter().filter(|&&f| f != 0).count(), usize::from(self.vao != 0))
+        (usize::from(self.fbo != 0), usize::from(self.vao != 0))
     }
 
     /// Shared with the share group: (textures, programs).
     pub fn shared_objects(&self) -> (Vec<u32>, Vec<u32>) {
-        let programs = match &self.programs {
-            Some(Ok(p)) => p.to_vec(),
+        let program = match &self.program {
+            Some(Ok(p)) => vec![*p],
             _ => vec![],
         };
-        (self.textures.iter().copied().filter(|&t| t != 0).collect(), programs)
+        (vec![self.texture].into_iter().filter(|&t| t != 0).collect(), program)
     }
 }
 
