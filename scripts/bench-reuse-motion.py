@@ -13,7 +13,7 @@ tests' rig.
 2. ms/frame: ROUNDS runs per mode without measurement, the modes alternating (the order
    rotates every round); a cell is the median over rounds of the layer's median frame time.
 3. The reprojection passes alone: one `--log trace` run, whose per-pass timings wait for the
-   GPU after every pass (`glFinish`): the median per frame of depth copy + splat + merge.
+   GPU after every pass (`glFinish`): the median per frame of depth copy + fetch.
 
     xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" scripts/bench-reuse-motion.py \\
         [--rounds 3] [--frames 40] [--orbit 0.5] [--spin 0] [-k 2] [--out FILE.md]
@@ -26,7 +26,7 @@ import argparse, os, re, statistics, subprocess, sys
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 FRAME_RE = re.compile(r"frame time: median ([0-9.]+) ms")
 PSNR_RE = re.compile(r"measure-error: frame (\d+): .*PSNR mean ([0-9.]+) dB, worst ([0-9.]+) dB")
-PASS_RE = re.compile(r"reproject (?:depth copy|splat|merge) ([0-9.]+) ms")
+PASS_RE = re.compile(r"reproject (?:depth copy|fetch) ([0-9.]+) ms")
 RIG = ["--depthiness", "0.12", "--convergence", "9", "--focus", "0"]
 
 
@@ -94,7 +94,7 @@ def main():
               "|---|" + "---|" * (len(names) + 1),
               "| median | " + " | ".join(f"{x:.2f}" for x in t) + f" | {t[2] / t[1]:.2f} |"]
     rp = reprojection_ms(args, modes[2])
-    lines += ["", f"reprojection passes (depth copy + splat + merge, each waited for): median "
+    lines += ["", f"reprojection passes (depth copy + fetch, each waited for): median "
               f"{rp:.2f} ms/frame" if rp is not None else "reprojection passes: none ran"]
     text = "\n".join(lines)
     print(text)

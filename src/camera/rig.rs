@@ -94,7 +94,9 @@ mod tests {
     #[test]
     fn clip_motion_is_the_motion_seen_through_the_shift() {
         let r = ViewRig { focus: 0.03, ..rig(5) };
-        let d = [1.1, 0.1, 0.0, 0.02, -0.2, 0.9, 0.1, 0.0, 0.05, 0.0, 1.2, 0.3, 0.4, -0.3, 0.7, 1.05];
+        let d = [
+            1.1, 0.1, 0.0, 0.02, -0.2, 0.9, 0.1, 0.0, 0.05, 0.0, 1.2, 0.3, 0.4, -0.3, 0.7, 1.05,
+        ];
         let p = r.params(0);
         let (k, c, h) = (p.k as f64, p.c as f64, p.h as f64);
         let shift = |v: [f64; 4]| [v[0] + k * (v[3] - c) + h * v[3], v[1], v[2], v[3]];
@@ -106,7 +108,10 @@ mod tests {
         let (m, t) = r.clip_motion(0, &d);
         let moved = mul(&m, shift(centre));
         for j in 0..4 {
-            assert!((moved[j] + t[j] - want[j]).abs() < 1e-12, "{j}: {moved:?} + {t:?} != {want:?}");
+            assert!(
+                (moved[j] + t[j] - want[j]).abs() < 1e-12,
+                "{j}: {moved:?} + {t:?} != {want:?}"
+            );
         }
     }
 

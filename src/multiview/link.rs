@@ -209,9 +209,19 @@ fn record(
     let camera_chain: Vec<i32> = analysis
         .matrix_uniforms
         .iter()
-        .map(|n| if n.starts_with("gl_") { -1 } else { uniform_location(gl, program, n) })
+        .map(|n| {
+            if n.starts_with("gl_") {
+                -1
+            } else {
+                uniform_location(gl, program, n)
+            }
+        })
         .collect();
-    let camera_chain = if camera_chain.iter().all(|&l| l >= 0) { camera_chain } else { vec![] };
+    let camera_chain = if camera_chain.iter().all(|&l| l >= 0) {
+        camera_chain
+    } else {
+        vec![]
+    };
     let fragcoord_loc = uniform_location(gl, program, shader::fragcoord::FRAGCOORD_UNIFORM);
     if fragcoord_loc >= 0 {
         // SAFETY: our own uniform in the just-linked program: window coordinates unchanged.

@@ -222,7 +222,11 @@ impl Multiview {
         let history = self.reuse.as_ref().is_some_and(|r| r.history.is_some());
         let (moved_fbos, moved_vaos) = self.reuse.as_ref().map_or((0, 0), |r| r.reprojector.context_objects());
         ContextObjects {
-            framebuffers: usize::from(self.target.is_some()) + views + copy_fbos + 2 * usize::from(history) + moved_fbos,
+            framebuffers: usize::from(self.target.is_some())
+                + views
+                + copy_fbos
+                + 2 * usize::from(history)
+                + moved_fbos,
             vertex_arrays: copy_vaos + usize::from(history) + moved_vaos,
         }
     }

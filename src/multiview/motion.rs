@@ -56,11 +56,13 @@ fn product(chain: &[i32], values: &[(i32, [f32; 16])]) -> Option<[f64; 16]> {
     if chain.is_empty() {
         return None;
     }
-    chain.iter().try_fold(DMat4::IDENTITY, |acc, loc| {
-        let (_, m) = values.iter().find(|(l, _)| l == loc)?;
-        Some(acc * DMat4::from_cols_array(&m.map(f64::from)))
-    })
-    .map(|m| m.to_cols_array())
+    chain
+        .iter()
+        .try_fold(DMat4::IDENTITY, |acc, loc| {
+            let (_, m) = values.iter().find(|(l, _)| l == loc)?;
+            Some(acc * DMat4::from_cols_array(&m.map(f64::from)))
+        })
+        .map(|m| m.to_cols_array())
 }
 
 impl CameraTrack {
@@ -74,7 +76,11 @@ impl CameraTrack {
                 format_args!(
                     "reuse: the camera of {} is not readable (built-in or block-held matrices): \
                      camera motion drops the kept views",
-                    if program == 0 { "fixed function".to_string() } else { format!("program {program}") }
+                    if program == 0 {
+                        "fixed function".to_string()
+                    } else {
+                        format!("program {program}")
+                    }
                 ),
             );
         }

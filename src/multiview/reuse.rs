@@ -160,7 +160,9 @@ fn camera_now(mv: &mut Multiview) -> Option<[f64; 16]> {
         log::once(
             &OFF_SCREEN,
             Level::Debug,
-            format_args!("reuse: the scene is drawn off-screen (its depth is not kept): camera motion drops the kept views"),
+            format_args!(
+                "reuse: the scene is drawn off-screen (its depth is not kept): camera motion drops the kept views"
+            ),
         );
     }
     vp.filter(|_| usable)
@@ -247,7 +249,10 @@ pub fn at_warp(gl: &Gl, mv: &mut Multiview) -> Reused {
     let reused = Reused {
         filled,
         moved: camera.map_or(vec![], |now| {
-            other.iter().filter_map(|&v| Some((v, motion(rot.kept_camera(v)?, &now)?))).collect()
+            other
+                .iter()
+                .filter_map(|&v| Some((v, motion(rot.kept_camera(v)?, &now)?)))
+                .collect()
         }),
     };
     rot.kept(&rendered, camera);

@@ -103,7 +103,11 @@ impl Scene for Cubes {
         // The eye turned about the vertical axis through the centre: the camera moves every
         // frame while the scene (with --spin 0) stays still.
         let a = (self.orbit * frame as f32).to_radians();
-        let eye = [EYE[0] * a.cos() + EYE[2] * a.sin(), EYE[1], EYE[2] * a.cos() - EYE[0] * a.sin()];
+        let eye = [
+            EYE[0] * a.cos() + EYE[2] * a.sin(),
+            EYE[1],
+            EYE[2] * a.cos() - EYE[0] * a.sin(),
+        ];
         let view = math::look_at(eye, CENTRE, [0.0, 1.0, 0.0]);
         unsafe {
             gl.Viewport(v.viewport[0], v.viewport[1], v.viewport[2], v.viewport[3]);
@@ -149,7 +153,11 @@ fn main() -> ExitCode {
                 "standard",
                 "standard | reversed (glClipControl ZERO_TO_ONE, GREATER, clear 0)",
             ),
-            ("orbit", "0", "degrees per frame the camera orbits the centre (a moving camera)"),
+            (
+                "orbit",
+                "0",
+                "degrees per frame the camera orbits the centre (a moving camera)",
+            ),
             ("spin", "1", "cube spin speed factor (0: still cubes)"),
         ],
         switches: &[],
