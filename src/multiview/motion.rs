@@ -14,6 +14,9 @@
 //! Products are formed in f64 from the uploaded f32 values.
 
 use glam::DMat4;
+use std::sync::atomic::AtomicBool;
+
+static UNREADABLE: AtomicBool = AtomicBool::new(false);
 
 /// One candidate over a frame's draws.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -93,10 +96,18 @@ impl CameraTrack {
     /// not known; starts the next frame.
     pub fn take(&mut self) -> Option<[f64; 16]> {
         let t = std::mem::take(self);
-        t.full
-            .value()
-            .or(t.prefix.value())
-            .filter(|m| crate::camera::invert(m).is_some())
+        let vp = t.full.value().or(t.prefix.value());
+        if vp.is_none() && t.full == Candidate::Varies && t.prefix == Candidate::Varies {
+            crate::log::once(
+                &UNREADABLE,
+                crate::log::Level::Debug,
+                format_args!(
+                    "reuse: no part of the camera draws' matrix chain stays the same over a frame \
+                     (one MVP per object?): camera motion drops the kept views"
+                ),
+            );
+        }
+        vp.filter(|m| crate::camera::invert(m).is_some())
     }
 }
 
