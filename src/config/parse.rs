@@ -85,13 +85,10 @@ pub fn reuse_motion(v: &str) -> Result<Option<f64>, String> {
     if v.trim() == "off" {
         return Ok(None);
     }
-    finite(v).and_then(|x| {
-        if x > 0.0 && x <= 1.0 {
-            Ok(Some(x))
-        } else {
-            Err(format!("`{v}`: expected off or a tolerance in (0, 1]"))
-        }
-    })
+    match finite(v) {
+        Ok(x) if x > 0.0 && x <= 1.0 => Ok(Some(x)),
+        _ => Err(format!("`{v}`: expected off or a tolerance in (0, 1]")),
+    }
 }
 
 /// `--synth-threshold`: pixels of disparity range a grid cell may hold before it is split.
@@ -285,7 +282,7 @@ mod tests {
         assert_eq!(reuse_motion("off"), Ok(None));
         assert_eq!(reuse_motion("0.05"), Ok(Some(0.05)));
         assert!(reuse_motion("0").unwrap_err().contains("off or a tolerance"));
-        assert!(reuse_motion("soon").is_err());
+        assert!(reuse_motion("soon").unwrap_err().contains("off or a tolerance"));
         assert_eq!(synth_warp("grid"), Ok(super::SynthWarp::Grid));
         assert!(synth_warp("quads").is_err());
     }
