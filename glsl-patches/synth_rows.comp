@@ -25,6 +25,10 @@ struct Out {
     float depth;
 };
 layout(std430, binding = 2) buffer Targets_out { Out out_pixels[]; };
+// With u_mark: per output pixel, 1 where the pixel that won is a stretch over a hole (what
+// --reuse's kept views may replace, synth/reproject.rs), else 0.
+layout(std430, binding = 4) buffer Marks { uint marks[]; };
+uniform int u_mark;
 uniform ivec2 u_tile;
 uniform int u_targets;
 // (s, f) times half the tile width: pixels per unit of parallax, and of focus.
@@ -59,6 +63,9 @@ void put(int x, vec4 c, float z, bool hole)
     if (nearer(z, abs(out_pixels[i].depth))) {
         out_pixels[i].depth = hole ? uintBitsToFloat(floatBitsToUint(z) | 0x80000000u) : z;
         out_pixels[i].color = packUnorm4x8(c);
+        if (u_mark == 1) {
+            marks[i] = hole ? 1u : 0u;
+        }
     }
 }
 
@@ -140,6 +147,9 @@ void main()
     float far = u_reversed == 1 ? 0.0 : 1.0;
     for (int x = 0; x < width; x++) {
         out_pixels[out_base + x] = Out(0u, far);
+        if (u_mark == 1) {
+            marks[out_base + x] = 1u;
+        }
     }
     Target t = targets[layer];
     if (t.src.z == 2) {

@@ -64,11 +64,56 @@ impl ViewRig {
         out[12] -= k * c;
         out
     }
+
+    /// How a pixel of view `i` moves in clip space when the camera's clip coordinates move by
+    /// `d` (column-major, `VP_now · VP_then⁻¹`): `v ↦ m·v + t`, the shift undone, `d`, the
+    /// shift redone. The shift `x' = x + (k+h)w - kc` is affine in clip space (its constant
+    /// is `-kc`), so the motion is a matrix and an offset: with `L` its linear part and
+    /// `s0 = (-kc, 0, 0, 0)`, `m = L·d·L⁻¹` and `t = s0 - L·d·s0`.
+    pub fn clip_motion(&self, i: u32, d: &[f64; 16]) -> ([f64; 16], [f64; 4]) {
+        use glam::{DMat4, DVec4};
+        let v = self.params(i);
+        let (kh, kc) = (v.k as f64 + v.h as f64, v.k as f64 * v.c as f64);
+        let shear = |a: f64| {
+            let mut l = DMat4::IDENTITY;
+            l.w_axis.x = a;
+            l
+        };
+        let (l, d) = (shear(kh), DMat4::from_cols_array(d));
+        let s0 = DVec4::new(-kc, 0.0, 0.0, 0.0);
+        let m = l * d * shear(-kh);
+        (m.to_cols_array(), (s0 - l * d * s0).to_array())
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Moving a shifted point by `clip_motion` equals shifting the moved unshifted point.
+    #[test]
+    fn clip_motion_is_the_motion_seen_through_the_shift() {
+        let r = ViewRig { focus: 0.03, ..rig(5) };
+        let d = [
+            1.1, 0.1, 0.0, 0.02, -0.2, 0.9, 0.1, 0.0, 0.05, 0.0, 1.2, 0.3, 0.4, -0.3, 0.7, 1.05,
+        ];
+        let p = r.params(0);
+        let (k, c, h) = (p.k as f64, p.c as f64, p.h as f64);
+        let shift = |v: [f64; 4]| [v[0] + k * (v[3] - c) + h * v[3], v[1], v[2], v[3]];
+        let mul = |m: &[f64; 16], v: [f64; 4]| -> [f64; 4] {
+            std::array::from_fn(|row| (0..4).map(|col| m[col * 4 + row] * v[col]).sum())
+        };
+        let centre = [0.3, -0.2, 4.0, 5.0];
+        let want = shift(mul(&d, centre));
+        let (m, t) = r.clip_motion(0, &d);
+        let moved = mul(&m, shift(centre));
+        for j in 0..4 {
+            assert!(
+                (moved[j] + t[j] - want[j]).abs() < 1e-12,
+                "{j}: {moved:?} + {t:?} != {want:?}"
+            );
+        }
+    }
 
     fn rig(n: u32) -> ViewRig {
         ViewRig {

@@ -169,6 +169,9 @@ pub struct ViewSettings {
     pub mode: Mode,
     /// `--reuse`: views rendered in turn, kept while the scene is unchanged (fast modes only).
     pub reuse: bool,
+    /// `--reuse-motion`: kept views reprojected by the camera's motion, and the relative
+    /// eye-distance tolerance of their pixels; `None`: camera motion drops them.
+    pub reuse_motion: Option<f64>,
     /// Disparity range (tile pixels, outermost view) a synthesis grid cell may hold.
     pub synth_threshold: f64,
     pub synth_warp: SynthWarp,
@@ -245,6 +248,7 @@ impl Default for ViewSettings {
             focus: 0.0,
             mode: Mode::Exact,
             reuse: false,
+            reuse_motion: Some(0.02),
             synth_threshold: 1.0,
             synth_warp: SynthWarp::Rows,
             measure_error: None,
@@ -340,6 +344,7 @@ impl Settings {
                 "focus" => s.view.focus = parse::finite(&value).unwrap_or(0.0),
                 "mode" => s.view.mode = parse::mode(&value).unwrap_or(Mode::Exact),
                 "reuse" => s.view.reuse = parse::switch(&value).unwrap_or(false),
+                "reuse-motion" => s.view.reuse_motion = parse::reuse_motion(&value).unwrap_or(Some(0.02)),
                 "synth-threshold" => s.view.synth_threshold = parse::synth_threshold(&value).unwrap_or(1.0),
                 "synth-warp" => s.view.synth_warp = parse::synth_warp(&value).unwrap_or(SynthWarp::Rows),
                 "measure-error" => s.view.measure_error = parse::frames(&value).ok(),

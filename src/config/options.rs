@@ -50,6 +50,8 @@ pub static OPTIONS: &[OptDef] = &[
         |v| super::parse::frame_budget(v).map(|_| ())),
     OptDef { long: "reuse", value: "", help: "with synth or hybrid:K: render a rotating set of views and keep each view's last exact render while the scene is unchanged, so a still scene becomes exact",
         check: |v| super::parse::switch(v).map(|_| ()), launcher_only: false },
+    opt("reuse-motion", "off|TOL", "with --reuse: kept views follow the tracked camera motion, reprojected pixel by pixel and used where their eye distance is within TOL (relative, default 0.02) of the synthesised view's; off: camera motion drops them",
+        |v| super::parse::reuse_motion(v).map(|_| ())),
     opt("synth-threshold", "PX", "synthesis: split a grid cell while its disparity range in the outermost view exceeds PX tile pixels (default 1)",
         |v| super::parse::synth_threshold(v).map(|_| ())),
     opt("synth-warp", "rows|grid", "synthesis warp: rows (default: a compute pass per row, no triangles) or grid (Didyk's adaptive quad grid drawn as triangles)",

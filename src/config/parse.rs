@@ -80,6 +80,17 @@ pub fn reuse_with(reuse: bool, mode: Mode) -> Result<(), String> {
     }
 }
 
+/// `--reuse-motion`: `None` for off, else the relative eye-distance tolerance.
+pub fn reuse_motion(v: &str) -> Result<Option<f64>, String> {
+    if v.trim() == "off" {
+        return Ok(None);
+    }
+    match finite(v) {
+        Ok(x) if x > 0.0 && x <= 1.0 => Ok(Some(x)),
+        _ => Err(format!("`{v}`: expected off or a tolerance in (0, 1]")),
+    }
+}
+
 /// `--synth-threshold`: pixels of disparity range a grid cell may hold before it is split.
 pub fn synth_threshold(v: &str) -> Result<f64, String> {
     finite(v).and_then(|x| {
@@ -377,6 +388,10 @@ mod tests {
         assert!(reuse_with(true, Mode::Exact).unwrap_err().contains("--reuse needs"));
         assert!(reuse_with(false, Mode::Exact).is_ok());
         assert_eq!(synth_threshold("2"), Ok(2.0));
+        assert_eq!(reuse_motion("off"), Ok(None));
+        assert_eq!(reuse_motion("0.05"), Ok(Some(0.05)));
+        assert!(reuse_motion("0").unwrap_err().contains("off or a tolerance"));
+        assert!(reuse_motion("soon").unwrap_err().contains("off or a tolerance"));
         assert_eq!(synth_warp("grid"), Ok(super::SynthWarp::Grid));
         assert!(synth_warp("quads").is_err());
     }

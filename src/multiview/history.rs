@@ -23,13 +23,16 @@ const FULLSCREEN_VERT: &str = include_str!("../../glsl-patches/fullscreen.vert")
 const COMPARE_FRAG: &str = include_str!("../../glsl-patches/reuse_compare.frag");
 
 pub struct History {
-    /// Colour (the quilt's format) and depth/stencil (the quilt's), on `fbo`.
+    /// Colour (the quilt's format) and depth/stencil (the quilt's) textures, on `fbo`.
     fbo: u32,
     color: u32,
+    /// `color` as the reprojection samples it: undecoded when sRGB (`target::linear_view`).
+    sampled: u32,
     depth: u32,
     /// What the quilt it mirrors was: its colour texture, layout, formats.
     quilt_color: u32,
     layout: QuiltLayout,
+    depth_format: GLenum,
     depth_bits: GLbitfield,
     /// The comparison: program, its origin uniform, a tile-sized scratch target, a query.
     program: u32,
@@ -68,8 +71,22 @@ fn renderbuffer(gl: &Gl, format: GLenum, (w, h): (i32, i32)) -> u32 {
     rb
 }
 
+/// A depth texture (sampled when kept views are reprojected, `synth::reproject`).
+fn depth_texture(gl: &Gl, format: GLenum, (w, h): (i32, i32)) -> u32 {
+    let mut t = 0;
+    // SAFETY: our own texture; the caller's guard restores the binding.
+    unsafe {
+        gl.GenTextures(1, &mut t);
+        gl.BindTexture(TEXTURE_2D, t);
+        gl.TexStorage2D(TEXTURE_2D, 1, format, w, h);
+        gl.TexParameteri(TEXTURE_2D, TEXTURE_MIN_FILTER, NEAREST as i32);
+        gl.TexParameteri(TEXTURE_2D, TEXTURE_MAG_FILTER, NEAREST as i32);
+    }
+    t
+}
+
 /// A framebuffer of ours (`target::framebuffer`) with `color` (a texture when `.1`) and
-/// optionally depth; an error if it is incomplete.
+/// optionally a depth texture; an error if it is incomplete.
 fn framebuffer(gl: &Gl, flip: bool, color: (u32, bool), depth: Option<(GLenum, u32)>) -> Result<u32, String> {
     // SAFETY: attaching our own images to the framebuffer just made and bound.
     let fbo = super::target::framebuffer(gl, flip, || unsafe {
@@ -77,8 +94,8 @@ fn framebuffer(gl: &Gl, flip: bool, color: (u32, bool), depth: Option<(GLenum, u
             (t, true) => gl.FramebufferTexture2D(FRAMEBUFFER, COLOR_ATTACHMENT0, TEXTURE_2D, t, 0),
             (rb, false) => gl.FramebufferRenderbuffer(FRAMEBUFFER, COLOR_ATTACHMENT0, RENDERBUFFER, rb),
         }
-        if let Some((point, rb)) = depth {
-            gl.FramebufferRenderbuffer(FRAMEBUFFER, point, RENDERBUFFER, rb);
+        if let Some((point, t)) = depth {
+            gl.FramebufferTexture2D(FRAMEBUFFER, point, TEXTURE_2D, t, 0);
         }
     });
     // SAFETY: a status query on the bound framebuffer, and deleting our own.
@@ -100,9 +117,11 @@ impl History {
         let mut h = History {
             fbo: 0,
             color: 0,
-            depth: renderbuffer(gl, depth_format, size),
+            sampled: 0,
+            depth: depth_texture(gl, depth_format, size),
             quilt_color: quilt.color,
             layout: l,
+            depth_format,
             depth_bits,
             program: 0,
             origin_loc: -1,
@@ -118,6 +137,7 @@ impl History {
             gl.TexStorage2D(TEXTURE_2D, 1, quilt.color_format, size.0, size.1);
             gl.TexParameteri(TEXTURE_2D, TEXTURE_MIN_FILTER, NEAREST as i32);
             gl.TexParameteri(TEXTURE_2D, TEXTURE_MAG_FILTER, NEAREST as i32);
+            h.sampled = super::target::linear_view(gl, info, h.color, quilt.color_format);
             gl.GenVertexArrays(1, &mut h.vao);
             gl.GenQueries(1, &mut h.query);
         }
@@ -234,8 +254,11 @@ impl History {
         unsafe {
             gl.DeleteFramebuffers(1, &self.fbo);
             gl.DeleteFramebuffers(1, &self.scratch_fbo);
+            if self.sampled != self.color {
+                gl.DeleteTextures(1, &self.sampled);
+            }
             gl.DeleteTextures(1, &self.color);
-            gl.DeleteRenderbuffers(1, &self.depth);
+            gl.DeleteTextures(1, &self.depth);
             gl.DeleteRenderbuffers(1, &self.scratch);
             gl.DeleteProgram(self.program);
             gl.DeleteVertexArrays(1, &self.vao);
@@ -245,7 +268,29 @@ impl History {
 
     /// Shared with the share group: (textures, renderbuffers, programs).
     pub fn shared_objects(&self) -> (Vec<u32>, Vec<u32>, Vec<u32>) {
-        (vec![self.color], vec![self.depth, self.scratch], vec![self.program])
+        let mut textures = vec![self.color, self.depth];
+        if self.sampled != self.color {
+            textures.push(self.sampled);
+        }
+        (textures, vec![self.scratch], vec![self.program])
+    }
+
+    /// The colour and depth textures, stored in `layout()`'s order.
+    pub fn textures(&self) -> (u32, u32) {
+        (self.sampled, self.depth)
+    }
+
+    pub fn depth_format(&self) -> GLenum {
+        self.depth_format
+    }
+
+    pub fn layout(&self) -> QuiltLayout {
+        self.layout
+    }
+
+    /// Where view `v`'s tile starts in texel addresses.
+    pub fn origin(&self, v: u32) -> (i32, i32) {
+        storage_origin(self.layout, v)
     }
 }
 

@@ -206,6 +206,22 @@ fn record(
     let projection_ubo = leftmost
         .filter(|n| projection_loc.is_none() && !n.starts_with("gl_"))
         .and_then(|n| super::ubo::find(gl, program, n));
+    let camera_chain: Vec<i32> = analysis
+        .matrix_uniforms
+        .iter()
+        .map(|n| {
+            if n.starts_with("gl_") {
+                -1
+            } else {
+                uniform_location(gl, program, n)
+            }
+        })
+        .collect();
+    let camera_chain = if camera_chain.iter().all(|&l| l >= 0) {
+        camera_chain
+    } else {
+        vec![]
+    };
     let fragcoord_loc = uniform_location(gl, program, shader::fragcoord::FRAGCOORD_UNIFORM);
     if fragcoord_loc >= 0 {
         // SAFETY: our own uniform in the just-linked program: window coordinates unchanged.
@@ -220,6 +236,7 @@ fn record(
         projection_loc,
         projection_ubo,
         builtin_projection: builtin,
+        camera_chain,
         identity: analysis.position_kind == shader::PositionKind::Identity,
         fragcoord_loc,
         pixel_addressing,

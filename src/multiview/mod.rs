@@ -29,6 +29,7 @@ pub mod layout;
 pub mod lifetime;
 pub mod link;
 pub mod measure;
+pub mod motion;
 pub mod plan;
 pub mod raster;
 pub mod replay;
@@ -204,6 +205,11 @@ impl Multiview {
             o.renderbuffers.extend(renderbuffers);
             o.programs.extend(programs);
         }
+        if let Some(r) = &self.reuse {
+            let (textures, programs) = r.reprojector.shared_objects();
+            o.textures.extend(textures);
+            o.programs.extend(programs);
+        }
         o.lists.push(self.immediate_list);
         o.without_zeros()
     }
@@ -214,9 +220,14 @@ impl Multiview {
         let (copy_fbos, copy_vaos) = self.scene.context_objects();
         let views: usize = self.shadows.values().map(|s| s.views.len()).sum();
         let history = self.reuse.as_ref().is_some_and(|r| r.history.is_some());
+        let (moved_fbos, moved_vaos) = self.reuse.as_ref().map_or((0, 0), |r| r.reprojector.context_objects());
         ContextObjects {
-            framebuffers: usize::from(self.target.is_some()) + views + copy_fbos + 2 * usize::from(history),
-            vertex_arrays: copy_vaos + usize::from(history),
+            framebuffers: usize::from(self.target.is_some())
+                + views
+                + copy_fbos
+                + 2 * usize::from(history)
+                + moved_fbos,
+            vertex_arrays: copy_vaos + usize::from(history) + moved_vaos,
         }
     }
 

@@ -23,19 +23,41 @@
 //!
 //! After a change, the next frame renders the K evenly spaced views of plain `hybrid:K`
 //! (and the centre), so a moving scene looks as it does without `--reuse`; rotation resumes
-//! once a frame is judged unchanged. What is not done: a kept view is not reprojected by the
-//! camera's motion (a moving camera is a change), and a change seen by none of the rendered
-//! views (an object visible only in views not rendered this frame) is not caught.
+//! once a frame is judged unchanged.
+//!
+//! **A moving camera** (`--reuse-motion`, on by default) is not a change when the camera can
+//! be followed: its view-projection is read from the matrices of the `gl_Position` chain
+//! (`motion`) and each kept view remembers the one it was rendered with. When the camera
+//! has moved since the centre view was kept, kept views can no longer be compared pixel for
+//! pixel, and the epoch goes on; rotation goes on too, so every view is re-rendered every P
+//! frames. A kept view is then not copied but moved after the synthesis, by
+//! `VP_now · VP_then⁻¹` seen through its own shift (`camera::ViewRig::clip_motion`, f64), and
+//! merged into the synthesised view pixel by pixel (`synth::reproject`): it replaces only the
+//! stretches the row warp made over disocclusions, where it agrees in depth with the
+//! stretch. Measured on `cubes`, it is less accurate than the warp elsewhere (one-pixel
+//! points resample every edge, the warp only vertical ones), and a moving object is nearer
+//! or farther than the background it uncovered, so it is dropped there, not smeared. An
+//! unmoved camera takes the path above, bit for bit. The camera is not followed (motion is
+//! a change, as before) where it cannot be read (one MVP per object, built-in or block-held
+//! matrices: said once at debug), where the scene is drawn off-screen (its depth is not
+//! kept), or under the grid and per-pixel warps (no hole marks).
+//!
+//! What is not done: a change seen by none of the rendered views (an object visible only in
+//! views not rendered this frame) is not caught; with a moving camera, a change of colour
+//! without a change of depth (a light, an animated texture) inside a disocclusion is not
+//! either.
 
 use super::Multiview;
 use super::rotation::{Change, Rotation, Signature};
 use crate::config::Mode;
 use crate::gl::*;
 use crate::log::{self, Level};
+use crate::synth::reproject::{MovedView, ReprojectJob};
 use std::sync::atomic::AtomicBool;
 
 static ANNOUNCED: AtomicBool = AtomicBool::new(false);
 static MULTISAMPLED: AtomicBool = AtomicBool::new(false);
+static OFF_SCREEN: AtomicBool = AtomicBool::new(false);
 
 /// The signature of `mv`'s frame now.
 fn signature(mv: &Multiview) -> Signature {
@@ -67,6 +89,10 @@ fn signature(mv: &Multiview) -> Signature {
 pub struct Reuse {
     pub rotation: Rotation,
     pub history: Option<super::history::History>,
+    /// The main camera's view-projection over the frame being drawn (`motion`).
+    pub camera: super::motion::CameraTrack,
+    /// Moves kept views by the camera's motion (`--reuse-motion`).
+    pub reprojector: crate::synth::reproject::Reprojector,
     /// The history cannot be made or used here; reuse is off for good.
     pub off: bool,
     /// The number of the frame being drawn (frames count from 1).
@@ -82,15 +108,18 @@ impl Reuse {
         Rotation::new(mode, views).map(|rotation| Reuse {
             rotation,
             history: None,
+            camera: Default::default(),
+            reprojector: Default::default(),
             off: false,
             frame: 1,
         })
     }
 
-    pub fn delete(&self, gl: &Gl) {
+    pub fn delete(&mut self, gl: &Gl) {
         if let Some(h) = &self.history {
             h.delete(gl);
         }
+        self.reprojector.delete(gl);
     }
 }
 
@@ -100,6 +129,7 @@ pub fn plan_next_frame(mv: &mut Multiview, frame: u64) {
         return;
     };
     r.frame = frame;
+    r.camera = Default::default();
     if !mv.plan.fast() {
         // Synthesis failed and the plan went exact: so does reuse.
         r.off = true;
@@ -109,14 +139,47 @@ pub fn plan_next_frame(mv: &mut Multiview, frame: u64) {
     mv.plan.set_rendered(next);
 }
 
+/// What `at_warp` did with the kept views: copied into their tiles as they are (exact), or
+/// left to be moved by the camera's motion over the synthesised view (`move_kept`), each
+/// with its `VP_now · VP_then⁻¹`.
+#[derive(Default)]
+pub struct Reused {
+    pub filled: Vec<u32>,
+    pub moved: Vec<(u32, [f64; 16])>,
+}
+
+/// The camera's view-projection of this frame when kept views may follow it: motion on, the
+/// depth model known, and the scene's depth in the quilt (what the history keeps).
+fn camera_now(mv: &mut Multiview) -> Option<[f64; 16]> {
+    let in_quilt = mv.scene.tracker.target.is_none_or(|t| t == 0);
+    // Only the row warp marks the holes kept views fill (`synth::reproject`).
+    let rows = mv.settings.synth_warp == crate::config::SynthWarp::Rows && !mv.plan.per_pixel;
+    let usable = mv.settings.reuse_motion.is_some() && in_quilt && rows && mv.camera.last_depth.is_some();
+    let vp = mv.reuse.as_mut()?.camera.take();
+    if vp.is_some() && !in_quilt {
+        log::once(
+            &OFF_SCREEN,
+            Level::Debug,
+            format_args!(
+                "reuse: the scene is drawn off-screen (its depth is not kept): camera motion drops the kept views"
+            ),
+        );
+    }
+    vp.filter(|_| usable)
+}
+
 /// At the warp point, before the synthesised views are made: judges whether the scene
-/// changed, keeps the rendered views, and copies the still-valid kept views into their
-/// tiles. Returns the views so filled (the synthesis leaves them alone).
-pub fn at_warp(gl: &Gl, mv: &mut Multiview) -> Vec<u32> {
+/// changed, keeps the rendered views, and copies the still-valid kept views seen through
+/// this frame's camera into their tiles (the synthesis leaves those alone); kept views seen
+/// through another camera are returned to be moved after the synthesis. (Once the camera
+/// stops, views kept while it moved are still moved, by the last part of its motion, until
+/// each is rendered again.)
+pub fn at_warp(gl: &Gl, mv: &mut Multiview) -> Reused {
     let signature = signature(mv);
+    let camera = camera_now(mv);
     let (info, rendered) = (mv.info, mv.plan.rendered.clone());
     let (Some(r), Some(quilt)) = (mv.reuse.as_mut().filter(|r| !r.off), mv.target.as_ref()) else {
-        return vec![];
+        return Reused::default();
     };
     let frame = r.frame;
     if quilt.samples > 0 {
@@ -129,7 +192,7 @@ pub fn at_warp(gl: &Gl, mv: &mut Multiview) -> Vec<u32> {
             ),
         );
         r.off = true;
-        return vec![];
+        return Reused::default();
     }
     if !r.history.as_ref().is_some_and(|h| h.fits(quilt)) {
         if let Some(old) = r.history.take() {
@@ -140,20 +203,31 @@ pub fn at_warp(gl: &Gl, mv: &mut Multiview) -> Vec<u32> {
             Err(e) => {
                 log::warn(format_args!("--reuse: the history quilt cannot be made ({e}): off"));
                 r.off = true;
-                return vec![];
+                return Reused::default();
             }
         }
         r.rotation.forget();
         announce(&r.rotation, quilt.layout.views());
     }
     let Some(history) = r.history.as_ref() else {
-        return vec![];
+        return Reused::default();
     };
     let rot = &mut r.rotation;
+    // Kept through this frame's camera (or the camera is not followed): valid pixel for pixel.
+    let through_now = |rot: &Rotation, v: u32| camera.is_none() || rot.kept_camera(v) == camera;
+    // The camera moved since the centre view was kept: there is nothing to compare pixel for
+    // pixel; kept views are moved and merged pixel by pixel instead.
+    let moving = camera.is_some() && rot.valid(rot.centre()) && !through_now(rot, rot.centre());
     let change = if rot.check_signature(signature) {
         Some(Change::Signature)
+    } else if moving {
+        None
     } else {
-        let compare = rot.comparable(&rendered);
+        let compare: Vec<u32> = rot
+            .comparable(&rendered)
+            .into_iter()
+            .filter(|&v| through_now(rot, v))
+            .collect();
         match history.differing(gl, info, quilt, &compare) {
             Some(0) => None,
             Some(n) => Some(Change::Pixels(n)),
@@ -168,17 +242,86 @@ pub fn at_warp(gl: &Gl, mv: &mut Multiview) -> Vec<u32> {
     }
     rot.judge(change);
     history.store(gl, info, quilt, &rendered);
-    rot.kept(&rendered);
-    let filled = rot.from_history(&rendered);
-    history.restore(gl, info, quilt, &filled);
-    if rot.newly_converged(&rendered) {
+    let (filled, other): (Vec<u32>, Vec<u32>) = rot
+        .from_history(&rendered)
+        .into_iter()
+        .partition(|&v| !moving && through_now(rot, v));
+    let reused = Reused {
+        filled,
+        moved: camera.map_or(vec![], |now| {
+            other
+                .iter()
+                .filter_map(|&v| Some((v, motion(rot.kept_camera(v)?, &now)?)))
+                .collect()
+        }),
+    };
+    rot.kept(&rendered, camera);
+    history.restore(gl, info, quilt, &reused.filled);
+    let moved: Vec<u32> = reused.moved.iter().map(|m| m.0).collect();
+    if rot.newly_converged(&rendered, &moved) {
         log::info(format_args!(
             "reuse: frame {frame}: every view exact ({} rendered, {} kept)",
             rendered.len(),
-            filled.len()
+            reused.filled.len()
         ));
     }
-    filled
+    reused
+}
+
+/// `VP_now · VP_then⁻¹` in f64; `None` when `then` is singular.
+fn motion(then: [f64; 16], now: &[f64; 16]) -> Option<[f64; 16]> {
+    let inv = crate::camera::invert(&then)?;
+    let (now, inv) = (glam::DMat4::from_cols_array(now), glam::DMat4::from_cols_array(&inv));
+    Some((now * inv).to_cols_array())
+}
+
+/// After the synthesis: the kept views `at_warp` returned to be moved, each over its
+/// synthesised view (`synth::reproject`). A failure turns `--reuse` off, said once.
+pub fn move_kept(gl: &Gl, mv: &mut Multiview, moved: &[(u32, [f64; 16])]) {
+    if moved.is_empty() {
+        return;
+    }
+    let (Some(depth_model), Some(quilt), Some(tolerance)) =
+        (mv.camera.last_depth, mv.target.as_ref(), mv.settings.reuse_motion)
+    else {
+        return;
+    };
+    let (rig, info, layout) = (mv.camera.rig, mv.info, quilt.layout);
+    let Some(marks) = mv.synth.hole_marks() else { return };
+    // The synthesis' targets: every view not rendered (none was filled from the history).
+    let targets: Vec<u32> = (0..layout.views()).filter(|v| !mv.plan.rendered.contains(v)).collect();
+    let Some(r) = mv.reuse.as_mut() else { return };
+    let Some(h) = r.history.as_ref() else { return };
+    let views: Vec<MovedView> = moved
+        .iter()
+        .filter_map(|&(v, d)| {
+            let (motion, offset) = rig.clip_motion(v, &d);
+            Some(MovedView {
+                origin: h.origin(v),
+                rect: layout.tile_rect(v),
+                layer: targets.iter().position(|&t| t == v)? as i32,
+                back: crate::camera::invert(&motion)?,
+                offset,
+            })
+        })
+        .collect();
+    let (color, depth) = h.textures();
+    let job = ReprojectJob {
+        color,
+        depth,
+        flipped: h.layout().flipped,
+        dest_fbo: quilt.fbo,
+        depth_format: h.depth_format(),
+        tile: (layout.tile_w as i32, layout.tile_h as i32),
+        depth_model,
+        tolerance,
+        marks,
+        views: &views,
+    };
+    if let Err(e) = r.reprojector.run(gl, info, &job) {
+        log::warn(format_args!("--reuse: kept views cannot follow the camera ({e}): off"));
+        r.off = true;
+    }
 }
 
 fn announce(rot: &Rotation, views: u32) {

@@ -31,6 +31,8 @@ pub struct Rotation {
     epoch: u64,
     /// Per view: the epoch its kept render belongs to.
     kept: Vec<Option<u64>>,
+    /// Per view: the camera's view-projection its kept render was made with, when known.
+    camera: Vec<Option<[f64; 16]>>,
     signature: Option<Signature>,
     /// The last judged frame changed: render the spaced views next.
     moving: bool,
@@ -58,6 +60,7 @@ impl Rotation {
             phase: 0,
             epoch: 0,
             kept: vec![None; views as usize],
+            camera: vec![None; views as usize],
             signature: None,
             moving: false,
             converged: false,
@@ -71,6 +74,10 @@ impl Rotation {
 
     pub fn period(&self) -> u32 {
         self.period
+    }
+
+    pub fn centre(&self) -> u32 {
+        self.centre
     }
 
     /// The last judged frame changed.
@@ -141,13 +148,19 @@ impl Rotation {
         self.moving = change.is_some();
     }
 
-    /// `rendered` were kept this frame.
-    pub fn kept(&mut self, rendered: &[u32]) {
+    /// `rendered` were kept this frame, seen through `camera`.
+    pub fn kept(&mut self, rendered: &[u32], camera: Option<[f64; 16]>) {
         for &v in rendered {
             if let Some(k) = self.kept.get_mut(v as usize) {
                 *k = Some(self.epoch);
+                self.camera[v as usize] = camera;
             }
         }
+    }
+
+    /// The camera view `v`'s kept render was made with.
+    pub fn kept_camera(&self, v: u32) -> Option<[f64; 16]> {
+        self.camera.get(v as usize).copied().flatten()
     }
 
     pub fn valid(&self, v: u32) -> bool {
@@ -161,9 +174,10 @@ impl Rotation {
             .collect()
     }
 
-    /// True the first time in an epoch that every view is exact (rendered or kept).
-    pub fn newly_converged(&mut self, rendered: &[u32]) -> bool {
-        let all = (0..self.views).all(|v| rendered.contains(&v) || self.valid(v));
+    /// True the first time in an epoch that every view is exact (rendered, or kept and not
+    /// `moved`: reprojected by the camera's motion).
+    pub fn newly_converged(&mut self, rendered: &[u32], moved: &[u32]) -> bool {
+        let all = (0..self.views).all(|v| rendered.contains(&v) || self.valid(v) && !moved.contains(&v));
         let first = all && !self.converged;
         self.converged |= all;
         first
@@ -218,11 +232,11 @@ mod tests {
             let rendered = r.next_rendered();
             r.check_signature(sig(s));
             r.judge(change);
-            r.kept(&rendered);
+            r.kept(&rendered, None);
             (
                 rendered.clone(),
                 r.from_history(&rendered),
-                r.newly_converged(&rendered),
+                r.newly_converged(&rendered, &[]),
             )
         };
         let (_, kept, done) = frame(&mut r, 1, None);
@@ -238,7 +252,7 @@ mod tests {
         assert_eq!(r.next_rendered(), vec![0, 4, 8], "then the plain spaced views");
         r.check_signature(sig(1));
         r.judge(None);
-        r.kept(&[0, 4, 8]);
+        r.kept(&[0, 4, 8], None);
         assert!(r.valid(4));
         assert!(r.check_signature(sig(2)), "a new camera or rig");
         assert!(!r.valid(4));

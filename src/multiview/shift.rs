@@ -44,7 +44,12 @@ pub fn of(gl: &Gl, app: &mut AppState, mv: &mut Multiview, group: &ShareGroup) -
         }
         let p = app.fixed_projection(gl);
         return match mode_of(program, Some(p), mv) {
-            m if m.is_perspective() => Shift::Projection(p),
+            m if m.is_perspective() => {
+                if let Some(r) = mv.reuse.as_mut() {
+                    r.camera.see(0, &[], &[]);
+                }
+                Shift::Projection(p)
+            }
             _ => Shift::None,
         };
     }
@@ -59,9 +64,17 @@ pub fn of(gl: &Gl, app: &mut AppState, mv: &mut Multiview, group: &ShareGroup) -
     } else {
         info.projection_ubo.and_then(|m| ubo_projection(gl, app, program, m))
     };
+    let mode = mode_of(program, matrix, mv);
+    if mode.is_perspective()
+        && !info.identity
+        && let Some(r) = mv.reuse.as_mut()
+    {
+        let values = &app.current.current(group, program).matrices;
+        r.camera.see(program, &info.camera_chain, values);
+    }
     Shift::Uniform {
         loc: info.view_loc,
-        mode: mode_of(program, matrix, mv),
+        mode,
         camera: !info.identity,
     }
 }

@@ -21,7 +21,8 @@ pub struct ProgramSnapshot {
     /// A block-held projection as last read, with the buffer generation it was read at.
     pub ubo_cache: Option<(u64, [f32; 16])>,
     /// Every `mat4` uniform value of a program whose `gl_Position` is given in NDC (a
-    /// screen-space pass may hold the camera's projection or its inverse): (location, value).
+    /// screen-space pass may hold the camera's projection or its inverse), else the values of
+    /// its `camera_chain`: (location, value).
     pub matrices: Vec<(i32, [f32; 16])>,
     links_seen: u64,
     uploads_seen: u64,
@@ -39,8 +40,12 @@ impl ProgramSnapshot {
             .and_then(|i| i.projection_loc)
             .and_then(|loc| state.matrices.get(&(program, loc)).copied());
         self.matrices.clear();
-        if info.as_ref().is_some_and(|i| i.identity) {
-            let of_program = state.matrices.iter().filter(|((p, _), _)| *p == program);
+        if let Some(i) = info.as_ref().filter(|i| i.identity || !i.camera_chain.is_empty()) {
+            let followed = |loc: &i32| i.identity || i.camera_chain.contains(loc);
+            let of_program = state
+                .matrices
+                .iter()
+                .filter(|((p, loc), _)| *p == program && followed(loc));
             self.matrices.extend(of_program.map(|(&(_, loc), m)| (loc, *m)));
         }
         drop(state);
@@ -81,7 +86,11 @@ impl ProgramSnapshot {
         if self.info.as_ref().and_then(|i| i.projection_loc) == Some(loc) {
             self.projection = Some(m);
         }
-        if self.info.as_ref().is_some_and(|i| i.identity) {
+        if self
+            .info
+            .as_ref()
+            .is_some_and(|i| i.identity || i.camera_chain.contains(&loc))
+        {
             match self.matrices.iter_mut().find(|(l, _)| *l == loc) {
                 Some(entry) => entry.1 = m,
                 None => self.matrices.push((loc, m)),

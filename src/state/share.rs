@@ -32,6 +32,10 @@ pub struct ProgramInfo {
     pub projection_ubo: Option<UboMember>,
     /// gl_Position comes from the compatibility built-ins (`ftransform`, `gl_ModelView…`).
     pub builtin_projection: bool,
+    /// Locations of the `gl_Position` chain's matrices, in multiplication order, when every
+    /// one is a plain uniform (else empty): where the camera's view-projection is read
+    /// (`multiview::motion`).
+    pub camera_chain: Vec<i32>,
     /// Location of `holoinject_fragcoord` in the fragment shader, or -1.
     pub fragcoord_loc: i32,
     /// Why its fragment shader addresses texels in pixels (`shader::fragcoord::

@@ -91,7 +91,7 @@ pub fn guard(gl: &Gl, info: GlInfo) -> StateGuard<'_> {
             SHADER_STORAGE_BUFFER_BINDING,
             SHADER_STORAGE_BUFFER_START,
             SHADER_STORAGE_BUFFER_SIZE,
-            0..4,
+            0..5,
         )
 }
 

@@ -23,6 +23,7 @@ mod grid;
 mod pixel;
 mod profile;
 mod pull_push;
+pub mod reproject;
 mod resources;
 mod rows;
 
@@ -70,6 +71,8 @@ pub struct Job<'a> {
     pub rows: bool,
     /// Splat every pixel and fill the holes (`synth:pixel`) instead of warping the grid.
     pub per_pixel: bool,
+    /// The row warp marks which target pixels are stretches over holes (`hole_marks`).
+    pub mark_holes: bool,
 }
 
 fn delete_programs(gl: &Gl, names: &[u32]) {
@@ -161,6 +164,11 @@ impl Synthesizer {
             }
             self.row_targets = Some(rows::RowTargets::create(gl, job.tile, sources, count));
         }
+        if job.mark_holes
+            && let Some(t) = self.row_targets.as_mut()
+        {
+            t.ensure_marks(gl);
+        }
         let out = self.row_targets.as_ref().ok_or("no row targets")?;
         rows::run(&pass, &row_programs, out, job)
     }
@@ -220,6 +228,11 @@ impl Synthesizer {
     /// and what comes into view beyond the edge); `None` for the grid. Waits for the warp.
     pub fn hole_fraction(&self, gl: &Gl) -> Option<f64> {
         self.row_targets.as_ref().map(|t| t.hole_fraction(gl))
+    }
+
+    /// The last row warp's hole marks, when it made them (`Job::mark_holes`).
+    pub fn hole_marks(&self) -> Option<u32> {
+        self.row_targets.as_ref().and_then(|t| t.marks())
     }
 
     /// What of ours is shared with the context's share group.

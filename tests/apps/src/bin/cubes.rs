@@ -42,6 +42,10 @@ struct Cubes {
     near: f32,
     far: Option<f32>,
     reversed: bool,
+    /// Degrees per frame the camera orbits the centre (`--orbit`), and the cubes' spin
+    /// speed factor (`--spin`).
+    orbit: f32,
+    spin: f32,
 }
 
 impl Cubes {
@@ -56,6 +60,8 @@ impl Cubes {
             near: 0.1,
             far: Some(100.0),
             reversed: false,
+            orbit: 0.0,
+            spin: 1.0,
         })
     }
 
@@ -86,7 +92,7 @@ impl Cubes {
 
 impl Scene for Cubes {
     fn render(&mut self, gl: &Gl, frame: u64, v: &View) {
-        let t = seconds(frame);
+        let t = seconds(frame) * self.spin;
         let p = v.projection(math::perspective_ext(
             45f32.to_radians(),
             v.aspect(),
@@ -94,7 +100,15 @@ impl Scene for Cubes {
             self.far,
             self.reversed,
         ));
-        let view = math::look_at(EYE, CENTRE, [0.0, 1.0, 0.0]);
+        // The eye turned about the vertical axis through the centre: the camera moves every
+        // frame while the scene (with --spin 0) stays still.
+        let a = (self.orbit * frame as f32).to_radians();
+        let eye = [
+            EYE[0] * a.cos() + EYE[2] * a.sin(),
+            EYE[1],
+            EYE[2] * a.cos() - EYE[0] * a.sin(),
+        ];
+        let view = math::look_at(eye, CENTRE, [0.0, 1.0, 0.0]);
         unsafe {
             gl.Viewport(v.viewport[0], v.viewport[1], v.viewport[2], v.viewport[3]);
             gl.ClearColor(0.1, 0.12, 0.18, 1.0);
@@ -139,6 +153,12 @@ fn main() -> ExitCode {
                 "standard",
                 "standard | reversed (glClipControl ZERO_TO_ONE, GREATER, clear 0)",
             ),
+            (
+                "orbit",
+                "0",
+                "degrees per frame the camera orbits the centre (a moving camera)",
+            ),
+            ("spin", "1", "cube spin speed factor (0: still cubes)"),
         ],
         switches: &[],
     };
@@ -154,6 +174,15 @@ fn main() -> ExitCode {
                 "inf" => None,
                 f => Some(f.parse().map_err(|_| "--far: expected a number or inf".to_string())?),
             };
+            let number = |name: &str| {
+                o.extra[name]
+                    .parse::<f32>()
+                    .ok()
+                    .filter(|x| x.is_finite())
+                    .ok_or_else(|| format!("--{name}: expected a number"))
+            };
+            c.orbit = number("orbit")?;
+            c.spin = number("spin")?;
             c.reversed = match o.extra["depth"].as_str() {
                 "standard" => false,
                 "reversed" => true,
