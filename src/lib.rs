@@ -85,6 +85,7 @@
 
 pub mod camera;
 pub mod config;
+pub mod control;
 pub mod gl;
 pub mod hook;
 pub mod log;
