@@ -126,7 +126,9 @@ pub fn ld_preload_with(existing: Option<&OsStr>, lib: &str) -> String {
 pub fn help() -> String {
     let mut s = String::from(
         "holoinject: show any OpenGL program in 3D on a light-field display\n\n\
-         usage: holoinject run [OPTIONS] [--] PROGRAM [ARGS…]\n       holoinject presets\n       holoinject --version\n\n\
+         usage: holoinject run [OPTIONS] [--] PROGRAM [ARGS…]\n       holoinject presets\n       \
+         holoinject ctl [--pid P] set KEY VALUE | get [KEY] | dump [DIR] | save-preset | list\n       \
+         holoinject --version\n\n\
          Each option --foo-bar sets HOLOINJECT_FOO_BAR for the layer (libholoinject.so, found\n\
          beside this binary or at $HOLOINJECT_LIB), which is appended to LD_PRELOAD.\n\noptions:\n",
     );

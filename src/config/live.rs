@@ -87,6 +87,8 @@ pub struct Store {
     /// The numbers in force, published by the render thread (depthiness and convergence,
     /// also when they are defaults or auto).
     pub observed: BTreeMap<&'static str, f64>,
+    /// The same for values that are not numbers (the output).
+    pub observed_text: BTreeMap<&'static str, String>,
     /// The last `on` value of each `Switch` key.
     switched: BTreeMap<&'static str, String>,
     pub generation: u64,
@@ -101,6 +103,7 @@ static STORE: Mutex<Store> = Mutex::new(Store {
     pending: Vec::new(),
     values: BTreeMap::new(),
     observed: BTreeMap::new(),
+    observed_text: BTreeMap::new(),
     switched: BTreeMap::new(),
     generation: 0,
     frame: 0,
@@ -132,10 +135,18 @@ pub fn store() -> MutexGuard<'static, Store> {
     s
 }
 
-/// The option's own check of `value` for live key `name`.
+/// The option's own check of `value` for live key `name`, and whether this process can
+/// take it now.
 pub fn check(name: &str, value: &str) -> Result<(), String> {
     let opt = options::find(name).ok_or_else(|| format!("{name}: not an option of this build"))?;
-    (opt.check)(value)
+    (opt.check)(value)?;
+    if name == "output" && !possible(value.trim()) {
+        return Err("native output needs a display: run with --device".into());
+    }
+    if name == "output" && !super::settings().multiview() {
+        return Err("the program started with --output mono (multiview off): restart without it".into());
+    }
+    Ok(())
 }
 
 /// Queues `action` (from `origin`: "ctl" or "hotkey"); it takes effect at the next frame
@@ -199,6 +210,14 @@ pub fn observe(name: &'static str, value: f64) {
     store().observed.insert(name, value);
 }
 
+/// Publishes a value in force that is not a number.
+pub fn observe_text(name: &'static str, value: &str) {
+    let mut s = store();
+    if s.observed_text.get(name).is_none_or(|v| v != value) {
+        s.observed_text.insert(name, value.to_string());
+    }
+}
+
 impl Store {
     fn apply(&mut self, action: Action, origin: &str) -> bool {
         let name = match &action {
@@ -260,14 +279,32 @@ impl Store {
     /// (a default, or auto).
     pub fn shown(&self, name: &str) -> String {
         let set = self.values.get(name).cloned().flatten();
-        let seen = self.observed.get(name).map(|v| format_number(*v));
+        let seen =
+            (self.observed.get(name).map(|v| format_number(*v))).or_else(|| self.observed_text.get(name).cloned());
         match (set, seen) {
-            (Some(v), Some(n)) if v.parse::<f64>().is_err() => format!("{v} ({n})"),
+            (Some(v), Some(n)) if v.parse::<f64>().is_err() && v != n => format!("{v} ({n})"),
             (Some(v), _) => v,
             (None, Some(n)) => format!("{n} (default)"),
             (None, None) => "default".into(),
         }
     }
+}
+
+/// What `--overlay` shows, while the last change is younger than `within`: one line per
+/// live key, the changed one marked `>`.
+pub fn overlay_lines(within: Duration, frame: u64) -> Option<Vec<String>> {
+    let s = store();
+    let (at, changed) = s.changed?;
+    if at.elapsed() > within {
+        return None;
+    }
+    let width = LIVE_KEYS.iter().map(|k| k.name.len()).max().unwrap_or(0);
+    let mut lines = vec![format!("  holoinject {frame}")];
+    lines.extend(LIVE_KEYS.iter().map(|k| {
+        let mark = if k.name == changed { '>' } else { ' ' };
+        format!("{mark} {:width$}  {}", k.name, s.shown(k.name))
+    }));
+    Some(lines)
 }
 
 /// The value after `current` in `values` (options that are not possible here, such as
@@ -328,9 +365,13 @@ mod tests {
     #[test]
     fn steps_scale_from_the_value_in_force() {
         let s = store_with(&[], &[("depthiness", 0.08), ("convergence", 10.0)]);
-        let d = s.next_value(key("depthiness").unwrap(), &Action::Step("depthiness", 1)).unwrap();
+        let d = s
+            .next_value(key("depthiness").unwrap(), &Action::Step("depthiness", 1))
+            .unwrap();
         assert_eq!(d, "0.1");
-        let c = s.next_value(key("convergence").unwrap(), &Action::Step("convergence", -1)).unwrap();
+        let c = s
+            .next_value(key("convergence").unwrap(), &Action::Step("convergence", -1))
+            .unwrap();
         assert_eq!(c, format_number(10.0 / 1.1));
         let f = s.next_value(key("focus").unwrap(), &Action::Step("focus", -1)).unwrap();
         assert_eq!(f, "-0.008");
@@ -342,8 +383,14 @@ mod tests {
         assert_eq!(s.shown("convergence"), "auto (12.5)");
         assert_eq!(s.number("convergence"), Some(12.5));
         let s = store_with(&[("depthiness", "0.3")], &[("depthiness", 0.1)]);
-        assert_eq!((s.shown("depthiness"), s.number("depthiness")), ("0.3".into(), Some(0.3)));
-        assert_eq!(store_with(&[], &[("depthiness", 0.1)]).shown("depthiness"), "0.1 (default)");
+        assert_eq!(
+            (s.shown("depthiness"), s.number("depthiness")),
+            ("0.3".into(), Some(0.3))
+        );
+        assert_eq!(
+            store_with(&[], &[("depthiness", 0.1)]).shown("depthiness"),
+            "0.1 (default)"
+        );
     }
 
     #[test]

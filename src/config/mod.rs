@@ -60,6 +60,19 @@ pub enum Output {
     Mono,
 }
 
+impl Output {
+    /// The option value naming it (`--output`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Output::Native => "native",
+            Output::Quilt => "quilt",
+            Output::SideBySide => "sbs",
+            Output::Anaglyph => "anaglyph",
+            Output::Mono => "mono",
+        }
+    }
+}
+
 /// Which of the app's framebuffers get layered shadows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum FboViews {

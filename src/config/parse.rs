@@ -81,8 +81,13 @@ pub fn hotkeys(v: &str) -> Result<Option<Vec<String>>, String> {
         return Ok(None);
     }
     let mods: Vec<String> = v.split('+').map(|m| m.trim().to_string()).collect();
-    match mods.iter().find(|m| !["ctrl", "alt", "shift", "super"].contains(&m.as_str())) {
-        Some(bad) => Err(format!("`{bad}`: expected off or modifiers joined by +, from ctrl, alt, shift, super")),
+    match mods
+        .iter()
+        .find(|m| !["ctrl", "alt", "shift", "super"].contains(&m.as_str()))
+    {
+        Some(bad) => Err(format!(
+            "`{bad}`: expected off or modifiers joined by +, from ctrl, alt, shift, super"
+        )),
         None => Ok(Some(mods)),
     }
 }

@@ -106,7 +106,12 @@ mod tests {
         let env = move |k: &str| (k == "XDG_CONFIG_HOME").then(|| d.clone());
         let (path, base) = target(None, &env, &["cubes".into()]).unwrap();
         assert_eq!(path, dir.join("holoinject/presets/cubes.toml"));
-        write(&path, &base, &[("depthiness", "0.25".into()), ("convergence", "auto".into())]).unwrap();
+        write(
+            &path,
+            &base,
+            &[("depthiness", "0.25".into()), ("convergence", "auto".into())],
+        )
+        .unwrap();
         let text = std::fs::read_to_string(&path).unwrap();
         std::fs::write(&path, format!("# mine\nquilt = \"5x9\"\n{text}")).unwrap();
         let text = std::fs::read_to_string(&path).unwrap();
@@ -114,7 +119,15 @@ mod tests {
         let c = preset::for_program(&["cubes".into()], &env).unwrap().unwrap();
         assert_eq!(c.skipped, Vec::<String>::new());
         let got: Vec<(&str, &str)> = c.preset.values.iter().map(|(k, v)| (k.as_str(), v.as_str())).collect();
-        assert_eq!(got, [("quilt", "5x9"), ("depthiness", "0.3"), ("convergence", "auto"), ("focus", "-2")]);
+        assert_eq!(
+            got,
+            [
+                ("quilt", "5x9"),
+                ("depthiness", "0.3"),
+                ("convergence", "auto"),
+                ("focus", "-2")
+            ]
+        );
         assert!(std::fs::read_to_string(&path).unwrap().starts_with("# mine\n"));
         std::fs::remove_dir_all(&dir).unwrap();
     }
@@ -129,7 +142,11 @@ mod tests {
         assert_eq!(path, dir.join("holoinject/presets/glmark2.toml"));
         write(&path, &base, &[("focus", "0.01".into())]).unwrap();
         let c = preset::for_program(&["glmark2-es2".into()], &env).unwrap().unwrap();
-        assert!(c.preset.source.starts_with(&dir.display().to_string()), "{}", c.preset.source);
+        assert!(
+            c.preset.source.starts_with(&dir.display().to_string()),
+            "{}",
+            c.preset.source
+        );
         assert_eq!(c.preset.get("focus"), Some("0.01"));
         assert!(c.preset.values.len() > 1, "the bundled values carry over");
         std::fs::remove_dir_all(&dir).unwrap();

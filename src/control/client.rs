@@ -51,16 +51,26 @@ pub fn choose(pid: Option<u32>, env: &dyn Fn(&str) -> Option<String>) -> Result<
     let (dir, why) = paths::socket_dir(env);
     if let Some(pid) = pid {
         let at = all.iter().position(|r| r.pid == pid).ok_or_else(|| {
-            format!("no holoinject process {pid} (no socket {}: {why})", paths::socket_path(&dir, pid).display())
+            format!(
+                "no holoinject process {pid} (no socket {}: {why})",
+                paths::socket_path(&dir, pid).display()
+            )
         })?;
         return Ok(all.swap_remove(at));
     }
     match all.len() {
-        0 => Err(format!("no holoinject process is running (no socket in {}: {why})", dir.display())),
+        0 => Err(format!(
+            "no holoinject process is running (no socket in {}: {why})",
+            dir.display()
+        )),
         1 => Ok(all.remove(0)),
         _ => {
             let list: Vec<String> = all.iter().map(|r| format!("{} ({})", r.pid, r.name)).collect();
-            Err(format!("{} holoinject processes: choose one with --pid: {}", all.len(), list.join(", ")))
+            Err(format!(
+                "{} holoinject processes: choose one with --pid: {}",
+                all.len(),
+                list.join(", ")
+            ))
         }
     }
 }
@@ -79,4 +89,53 @@ pub fn send(target: &Running, request: &str) -> Result<String, String> {
         None if reply.is_empty() => Err(format!("{}: no reply", at())),
         None => Ok(reply),
     }
+}
+
+pub const CTL_USAGE: &str =
+    "usage: holoinject ctl [--pid P] set KEY VALUE | get [KEY] | dump [DIR] | save-preset | list";
+
+/// `holoinject ctl ARGS…`: what to print on success.
+pub fn ctl(args: &[String], env: &dyn Fn(&str) -> Option<String>) -> Result<String, String> {
+    let (pid, rest) = match args {
+        [flag, p, rest @ ..] if flag == "--pid" => {
+            let pid = p
+                .parse::<u32>()
+                .map_err(|_| format!("--pid {p}: expected a process id"))?;
+            (Some(pid), rest)
+        }
+        [flag] if flag == "--pid" => return Err("--pid needs a process id".into()),
+        rest => (None, rest),
+    };
+    let words: Vec<&str> = rest.iter().map(String::as_str).collect();
+    let request = match words.as_slice() {
+        ["list"] => return list(env),
+        ["--help" | "-h" | "help"] | [] => return Ok(format!("{CTL_USAGE}\n")),
+        ["dump", dir] => format!("dump {}", absolute(dir)?),
+        [cmd @ ("set" | "get" | "dump" | "save-preset"), more @ ..] => std::iter::once(*cmd)
+            .chain(more.iter().copied())
+            .collect::<Vec<_>>()
+            .join(" "),
+        [other, ..] => return Err(format!("unknown ctl command `{other}`; {CTL_USAGE}")),
+    };
+    send(&choose(pid, env)?, &request)
+}
+
+fn absolute(dir: &str) -> Result<String, String> {
+    let p = std::path::absolute(dir).map_err(|e| format!("dump {dir}: {e}"))?;
+    if p.to_string_lossy().contains(char::is_whitespace) {
+        return Err(format!("dump {}: a directory without spaces, please", p.display()));
+    }
+    Ok(p.to_string_lossy().into_owned())
+}
+
+fn list(env: &dyn Fn(&str) -> Option<String>) -> Result<String, String> {
+    let all = running(env)?;
+    if all.is_empty() {
+        let (dir, why) = paths::socket_dir(env);
+        return Ok(format!(
+            "no holoinject process is running (no socket in {}: {why})\n",
+            dir.display()
+        ));
+    }
+    Ok(all.iter().map(|r| format!("{} {}\n", r.pid, r.name)).collect())
 }

@@ -35,7 +35,10 @@ pub fn run(line: &str) -> Result<String, String> {
 
 fn live_key(name: &str) -> Result<&'static live::LiveKey, String> {
     live::key(name).ok_or_else(|| {
-        format!("`{name}` is not a live setting (live: {})", live::key_names().join(", "))
+        format!(
+            "`{name}` is not a live setting (live: {})",
+            live::key_names().join(", ")
+        )
     })
 }
 
@@ -52,7 +55,9 @@ fn set(name: &str, value: &str) -> Result<String, String> {
         let s = live::store();
         Ok(format!("{name} = {} (from frame {})\n", s.shown(name), s.frame + 1))
     } else {
-        Ok(format!("{name} = {value} queued: the program has not ended a frame for 3 s\n"))
+        Ok(format!(
+            "{name} = {value} queued: the program has not ended a frame for 3 s\n"
+        ))
     }
 }
 

@@ -91,7 +91,10 @@ fn grab(conn: &impl Connection, root: u32, want: u16) -> Result<Grabbed, String>
         .map_err(|e| e.to_string())?;
     let per = usize::from(map.keysyms_per_keycode.max(1));
     let code_of = |sym: u32| {
-        map.keysyms.chunks(per).position(|syms| syms.contains(&sym)).map(|i| min + i as u8)
+        map.keysyms
+            .chunks(per)
+            .position(|syms| syms.contains(&sym))
+            .map(|i| min + i as u8)
     };
     let mut grabbed = vec![];
     for &(sym, name, action) in KEYS {
@@ -100,11 +103,18 @@ fn grab(conn: &impl Connection, root: u32, want: u16) -> Result<Grabbed, String>
             continue;
         };
         let ok = [0, 0x0002, 0x0010, 0x0012].iter().all(|locks| {
-            conn.grab_key(false, root, ModMask::from(want | locks), code, GrabMode::ASYNC, GrabMode::ASYNC)
-                .map_err(|e| e.to_string())
-                .and_then(|c| c.check().map_err(|e| format!("{e:?}")))
-                .inspect_err(|e| crate::log::warn(format_args!("hotkeys: {name} is taken by another client ({e})")))
-                .is_ok()
+            conn.grab_key(
+                false,
+                root,
+                ModMask::from(want | locks),
+                code,
+                GrabMode::ASYNC,
+                GrabMode::ASYNC,
+            )
+            .map_err(|e| e.to_string())
+            .and_then(|c| c.check().map_err(|e| format!("{e:?}")))
+            .inspect_err(|e| crate::log::warn(format_args!("hotkeys: {name} is taken by another client ({e})")))
+            .is_ok()
         });
         if ok {
             grabbed.push((code, name, action));

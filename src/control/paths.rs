@@ -43,7 +43,12 @@ pub fn check_private_dir(dir: &Path) -> Result<(), String> {
         return Err(format!("{}: not a directory (a link?); refused", dir.display()));
     }
     if m.uid() != uid() {
-        return Err(format!("{}: owned by uid {}, not {}; refused", dir.display(), m.uid(), uid()));
+        return Err(format!(
+            "{}: owned by uid {}, not {}; refused",
+            dir.display(),
+            m.uid(),
+            uid()
+        ));
     }
     if m.permissions().mode() & 0o077 != 0 {
         return Err(format!(
@@ -68,7 +73,11 @@ mod tests {
         ensure_private_dir(&dir).unwrap();
         assert_eq!(std::fs::metadata(&dir).unwrap().permissions().mode() & 0o777, 0o700);
         std::fs::set_permissions(&dir, std::fs::Permissions::from_mode(0o755)).unwrap();
-        assert!(ensure_private_dir(&dir).unwrap_err().contains("mode 755 lets others in"));
+        assert!(
+            ensure_private_dir(&dir)
+                .unwrap_err()
+                .contains("mode 755 lets others in")
+        );
         let link = base.join("link");
         std::os::unix::fs::symlink(&dir, &link).unwrap();
         assert!(check_private_dir(&link).unwrap_err().contains("not a directory"));

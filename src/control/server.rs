@@ -48,18 +48,18 @@ fn bind() -> Result<UnixListener, String> {
     let listener = UnixListener::bind(&path).map_err(|e| format!("{}: {e}", path.display()))?;
     std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o600))
         .map_err(|e| format!("{}: chmod 600: {e}", path.display()))?;
-    crate::log::info(format_args!(
-        "holoinject ctl: listening on {} ({why})",
-        path.display()
-    ));
+    crate::log::info(format_args!("holoinject ctl: listening on {} ({why})", path.display()));
     Ok(listener)
 }
 
 fn serve(mut stream: UnixStream) {
     let _ = stream.set_read_timeout(Some(IO_TIMEOUT));
     let _ = stream.set_write_timeout(Some(IO_TIMEOUT));
+    // Read before answering, also to refuse: closing on unread data resets the connection
+    // and the peer would see that instead of the reason.
+    let request = read_request(&stream);
     let reply = match peer_uid(&stream) {
-        Ok(uid) if uid == paths::uid() => read_request(&stream).and_then(|r| commands::run(&r)),
+        Ok(uid) if uid == paths::uid() => request.and_then(|r| commands::run(&r)),
         Ok(uid) => {
             crate::log::warn(format_args!(
                 "holoinject ctl: refused a connection from uid {uid} (this process belongs to uid {})",
@@ -74,12 +74,18 @@ fn serve(mut stream: UnixStream) {
         Err(e) => format!("error: {}\n", crate::config::one_line(&e)),
     };
     let _ = stream.write_all(text.as_bytes());
+    // What is left of an overlong request is read (a bounded amount) before closing, for
+    // the same reason as above.
+    let _ = stream.shutdown(std::net::Shutdown::Write);
+    let _ = std::io::copy(&mut (&stream).take(1 << 16), &mut std::io::sink());
 }
 
 fn read_request(stream: &UnixStream) -> Result<String, String> {
     let mut line = String::new();
     let mut reader = BufReader::new(stream.take(MAX_REQUEST + 1));
-    reader.read_line(&mut line).map_err(|e| format!("reading the request: {e}"))?;
+    reader
+        .read_line(&mut line)
+        .map_err(|e| format!("reading the request: {e}"))?;
     if line.len() as u64 > MAX_REQUEST {
         return Err(format!("request longer than {MAX_REQUEST} bytes"));
     }

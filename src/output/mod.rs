@@ -7,6 +7,7 @@
 pub mod compose;
 pub mod dump;
 pub mod native;
+pub mod overlay;
 pub mod pass;
 pub mod png;
 pub mod staging;
@@ -25,6 +26,8 @@ pub struct Presenter {
     pub native: Option<native::NativeTarget>,
     /// What a multisampled window's output is drawn into first.
     pub staging: Option<staging::Staging>,
+    /// `--overlay`: the live values, drawn over what is presented.
+    pub overlay: overlay::Overlay,
 }
 
 impl Presenter {
@@ -37,7 +40,7 @@ impl Presenter {
     /// The quilt and, after a native present, the weave, as PNGs of frame `frame`.
     pub fn dump(&self, frame: u64, gl: &Gl, mv: &Multiview, settings: &Settings) -> Result<(), String> {
         dump::quilt(frame, gl, mv, settings)?;
-        if settings.view.output == Output::Native {
+        if mv.settings.output == Output::Native {
             dump::native(frame, gl, self, mv.info, settings)?;
         }
         Ok(())
@@ -47,7 +50,8 @@ impl Presenter {
     /// passes' vertex array.
     pub fn context_objects(&self) -> crate::multiview::ContextObjects {
         crate::multiview::ContextObjects {
-            framebuffers: usize::from(self.native.as_ref().is_some_and(|n| n.fbo != 0)),
+            framebuffers: usize::from(self.native.as_ref().is_some_and(|n| n.fbo != 0))
+                + usize::from(self.overlay.fbo != 0),
             vertex_arrays: usize::from(self.passes.vao != 0),
         }
     }
@@ -58,6 +62,7 @@ impl Presenter {
         let mut o = LayerObjects::default();
         o.textures.extend(self.native.as_ref().map(|n| n.color));
         o.textures.extend(self.staging.as_ref().map(|s| s.color));
+        o.textures.push(self.overlay.texture);
         o.programs.extend(self.passes.programs());
         o.without_zeros()
     }
