@@ -2,7 +2,7 @@
 # Installs what building, the demo and the tests need on Debian 12 (bookworm): Mesa (GLX, EGL,
 # OSMesa; llvmpipe renders without a GPU), Xvfb, the real GL programs the tests run
 # (mesa-utils, glmark2, chromium-bsu, f3d: a VTK viewer, xscreensaver's GL hacks), apitrace
-# (deterministic replays) and hyperfine (benchmarks).
+# (deterministic replays), hyperfine (benchmarks) and xdotool (the live-control hotkey test).
 set -euo pipefail
 
 packages=(
@@ -11,6 +11,7 @@ packages=(
   mesa-utils mesa-utils-bin glmark2-x11 glmark2-es2-x11
   apitrace apitrace-tracers chromium-bsu f3d xscreensaver-gl
   glslang-tools hyperfine python3-numpy python3-matplotlib python3-pil
+  xdotool
 )
 
 sudo=""

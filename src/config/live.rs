@@ -224,7 +224,12 @@ impl Store {
             Action::Set(n, _) | Action::Step(n, _) | Action::Next(n) => *n,
             Action::Dump(_) => return false,
         };
-        let Some(k) = key(name) else { return false };
+        let Some(k) = key(name) else {
+            crate::log::info(format_args!(
+                "live ({origin}): {name}: not a live setting in this build"
+            ));
+            return false;
+        };
         let old = self.shown(name);
         let new = match self.next_value(k, &action) {
             Ok(v) => v,

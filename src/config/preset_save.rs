@@ -118,16 +118,15 @@ mod tests {
         write(&path, &text, &[("depthiness", "0.3".into()), ("focus", "-2".into())]).unwrap();
         let c = preset::for_program(&["cubes".into()], &env).unwrap().unwrap();
         assert_eq!(c.skipped, Vec::<String>::new());
-        let got: Vec<(&str, &str)> = c.preset.values.iter().map(|(k, v)| (k.as_str(), v.as_str())).collect();
-        assert_eq!(
-            got,
-            [
-                ("quilt", "5x9"),
-                ("depthiness", "0.3"),
-                ("convergence", "auto"),
-                ("focus", "-2")
-            ]
-        );
+        let mut got: Vec<(&str, &str)> = c.preset.values.iter().map(|(k, v)| (k.as_str(), v.as_str())).collect();
+        got.sort();
+        let want = [
+            ("convergence", "auto"),
+            ("depthiness", "0.3"),
+            ("focus", "-2"),
+            ("quilt", "5x9"),
+        ];
+        assert_eq!(got, want);
         assert!(std::fs::read_to_string(&path).unwrap().starts_with("# mine\n"));
         std::fs::remove_dir_all(&dir).unwrap();
     }

@@ -324,3 +324,41 @@ fn is_root() -> bool {
     // SAFETY: geteuid cannot fail.
     unsafe { libc::geteuid() == 0 }
 }
+
+/// Pixels of the overlay's background (`output::overlay`'s PAPER, exact: it is blitted, not
+/// blended) in the top-left 200x60 of the presented image dumped into `dir`.
+fn overlay_pixels(app: &Running, dir: &Path) -> usize {
+    let said = app.ok(&["dump", dir.to_str().unwrap()]);
+    assert!(said.starts_with("dumped frame "), "{said}");
+    let out = std::fs::read_dir(dir)
+        .unwrap()
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .find(|p| p.to_str().unwrap().ends_with("_out.png"))
+        .unwrap();
+    let img = read_png(&out);
+    (0..60)
+        .flat_map(|y| (0..200).map(move |x| (x, y)))
+        .filter(|&(x, y)| img.pixel(x, y) == Some(&[20, 20, 24][..]))
+        .count()
+}
+
+#[test]
+fn the_overlay_shows_for_two_seconds_after_a_change() {
+    let dir = temp_dir("live_overlay");
+    let app = Running::start(&dir, &["--quilt", "3x1", "--overlay"], "osmesa", &[]);
+    assert_eq!(
+        overlay_pixels(&app, &dir.join("before")),
+        0,
+        "overlay before any change"
+    );
+    app.ok(&["set", "focus", "0.001"]);
+    let shown = overlay_pixels(&app, &dir.join("changed"));
+    // A 200x60 corner holds ~4 lines of 8 px text on the background: most of it is paper.
+    assert!(shown > 200 * 40, "overlay missing after a change: {shown} px");
+    std::thread::sleep(Duration::from_millis(2500));
+    assert_eq!(
+        overlay_pixels(&app, &dir.join("after")),
+        0,
+        "overlay still shown after 2.5 s"
+    );
+}
