@@ -11,8 +11,11 @@ use x11rb::connection::Connection;
 use x11rb::protocol::Event;
 use x11rb::protocol::xproto::{ConnectionExt, GrabMode, ModMask};
 
-/// The key map (X keysyms), documented in README "Live controls".
-pub const KEYS: &[(u32, &str, fn() -> Action)] = &[
+/// One hotkey: X keysym, name in messages, what it asks for.
+pub type HotKey = (u32, &'static str, fn() -> Action);
+
+/// The key map, documented in README "Live controls".
+pub const KEYS: &[HotKey] = &[
     (0xff52, "Up", || Action::Step("depthiness", 1)),
     (0xff54, "Down", || Action::Step("depthiness", -1)),
     (0xff53, "Right", || Action::Step("convergence", 1)),
