@@ -49,7 +49,34 @@ fn bind() -> Result<UnixListener, String> {
     std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o600))
         .map_err(|e| format!("{}: chmod 600: {e}", path.display()))?;
     crate::log::info(format_args!("holoinject ctl: listening on {} ({why})", path.display()));
+    remember_for_exit(&path);
     Ok(listener)
+}
+
+static SOCKET: std::sync::OnceLock<std::ffi::CString> = std::sync::OnceLock::new();
+
+/// The socket is removed when the process exits normally (`atexit`) or by `--exit-after`
+/// ([`remove_socket`]); after a crash it stays until `holoinject ctl` sees its process gone.
+fn remember_for_exit(path: &std::path::Path) {
+    let Ok(c) = std::ffi::CString::new(path.as_os_str().as_encoded_bytes()) else {
+        return;
+    };
+    if SOCKET.set(c).is_ok() {
+        extern "C" fn at_exit() {
+            remove_socket();
+        }
+        // SAFETY: registers a function of this library that only unlinks a path; the
+        // library is never unloaded (LD_PRELOAD).
+        unsafe { libc::atexit(at_exit) };
+    }
+}
+
+/// Unlinks this process's socket, if it made one.
+pub fn remove_socket() {
+    if let Some(path) = SOCKET.get() {
+        // SAFETY: unlinking a NUL-terminated path we own.
+        unsafe { libc::unlink(path.as_ptr()) };
+    }
 }
 
 fn serve(mut stream: UnixStream) {

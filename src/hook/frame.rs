@@ -155,6 +155,7 @@ fn exit_after(frame: u64) -> ! {
     ));
     // `exit` would run the app's atexit handlers and C++ destructors from inside its swap
     // call, where GL/X11 teardown can hang or crash; flushing stdio is all the app is owed.
+    crate::control::server::remove_socket();
     // SAFETY: flushing all C streams and ending the process are always allowed.
     unsafe {
         libc::fflush(core::ptr::null_mut());

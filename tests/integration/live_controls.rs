@@ -364,3 +364,32 @@ fn the_overlay_shows_for_two_seconds_after_a_change() {
         "overlay still shown after 2.5 s"
     );
 }
+
+/// A program that ends (by itself, or by `--exit-after`) takes its socket with it.
+#[test]
+fn the_socket_goes_when_the_program_ends() {
+    let dir = temp_dir("live_socket_removed");
+    let runtime = dir.join("run");
+    std::fs::create_dir_all(&runtime).unwrap();
+    let env = [("XDG_RUNTIME_DIR", runtime.to_str().unwrap())];
+    let cubes = app("cubes");
+    for (layer, frames) in [
+        (vec!["--log", "info"], "60"),
+        (vec!["--log", "info", "--exit-after", "60"], "1000"),
+    ] {
+        let out = under_layer(
+            &layer,
+            &cubes,
+            &["--backend", "osmesa", "--size", "64x48", "--frames", frames],
+            &env,
+        );
+        assert_success(&out, "cubes");
+        assert!(
+            stderr(&out).contains("holoinject ctl: listening on"),
+            "{}",
+            stderr(&out)
+        );
+        let left: Vec<_> = std::fs::read_dir(runtime.join("holoinject")).unwrap().collect();
+        assert!(left.is_empty(), "{left:?} left after {layer:?}");
+    }
+}
