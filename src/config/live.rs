@@ -205,16 +205,17 @@ pub fn dump_done(frame: u64, result: Result<(), String>) {
     APPLIED.notify_all();
 }
 
-/// Publishes the numbers in force (render thread, after the rig is updated).
-pub fn observe(name: &'static str, value: f64) {
-    store().observed.insert(name, value);
-}
-
-/// Publishes a value in force that is not a number.
-pub fn observe_text(name: &'static str, value: &str) {
+/// Publishes the values in force (render thread, after the rig is updated), numbers and
+/// others (the output), under one lock.
+pub fn observe(numbers: &[(&'static str, f64)], texts: &[(&'static str, &str)]) {
     let mut s = store();
-    if s.observed_text.get(name).is_none_or(|v| v != value) {
-        s.observed_text.insert(name, value.to_string());
+    for &(name, v) in numbers {
+        s.observed.insert(name, v);
+    }
+    for &(name, v) in texts {
+        if s.observed_text.get(name).is_none_or(|t| t != v) {
+            s.observed_text.insert(name, v.to_string());
+        }
     }
 }
 

@@ -126,3 +126,27 @@ fn grab(conn: &impl Connection, root: u32, want: u16) -> Result<Grabbed, String>
     conn.flush().map_err(|e| e.to_string())?;
     Ok(grabbed)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::config::parse::hotkeys;
+
+    #[test]
+    fn modifiers_parse_into_x_masks() {
+        let mods = hotkeys("Ctrl+Alt").unwrap().unwrap();
+        assert_eq!(mask(&mods), 0x0004 | 0x0008);
+        assert_eq!(mask(&hotkeys("super+shift").unwrap().unwrap()), 0x0040 | 0x0001);
+        assert_eq!(hotkeys("off").unwrap(), None);
+        let e = hotkeys("ctrl+hyper").unwrap_err();
+        assert!(e.contains("`hyper`") && e.contains("ctrl, alt, shift, super"), "{e}");
+    }
+
+    #[test]
+    fn every_key_is_distinct() {
+        let mut syms: Vec<u32> = KEYS.iter().map(|k| k.0).collect();
+        syms.sort();
+        syms.dedup();
+        assert_eq!(syms.len(), KEYS.len());
+    }
+}

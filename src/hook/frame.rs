@@ -132,10 +132,12 @@ fn apply_live(mv: &mut crate::multiview::Multiview) {
 
 /// The numbers in force, for `get`, hotkey steps and the overlay.
 fn observe(rig: &crate::camera::ViewRig, output: crate::config::Output) {
-    live::observe_text("output", output.name());
-    live::observe("depthiness", rig.depthiness);
-    live::observe("convergence", rig.convergence);
-    live::observe("focus", rig.focus);
+    let numbers = [
+        ("depthiness", rig.depthiness),
+        ("convergence", rig.convergence),
+        ("focus", rig.focus),
+    ];
+    live::observe(&numbers, &[("output", output.name())]);
 }
 
 /// `--overlay`: the live values for two seconds after a change.
