@@ -2,7 +2,8 @@
 # Installs what building, the demo and the tests need on Debian 12 (bookworm): Mesa (GLX, EGL,
 # OSMesa; llvmpipe renders without a GPU), Xvfb, the real GL programs the tests run
 # (mesa-utils, glmark2, chromium-bsu, f3d: a VTK viewer, xscreensaver's GL hacks), apitrace
-# (deterministic replays), hyperfine (benchmarks) and ffmpeg (--record, holoinject quilt of a video).
+# (deterministic replays), hyperfine (benchmarks), ffmpeg (--record, holoinject quilt of a
+# video) and xdotool (the live-control hotkey test).
 set -euo pipefail
 
 packages=(
@@ -12,6 +13,7 @@ packages=(
   apitrace apitrace-tracers chromium-bsu f3d xscreensaver-gl
   glslang-tools hyperfine python3-numpy python3-matplotlib python3-pil
   ffmpeg
+  xdotool
 )
 
 sudo=""

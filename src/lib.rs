@@ -22,9 +22,11 @@
 //!  real        finding the real functions: dlvsym, loaded sonames, *GetProcAddress,
 //!              the generated name table; no state
 //!    │
+//!  control     live controls: the `holoinject ctl` socket and the hotkeys, on threads
+//!    │         of their own; they only queue requests in `config::live`
 //!  gl · camera · shader · config · log      leaves: bindings and GL helpers (`GlInfo`),
 //!              the view rig and projection estimate, GLSL analysis and rewrite,
-//!              settings and presets, logging
+//!              settings, presets and the live settings store, logging
 //! ```
 //!
 //! `state` holds each context's layer data without knowing its type
@@ -62,7 +64,9 @@
 //! swap runs, then `multiview` estimates auto-convergence from the scene's depth (copied from
 //! the centre view of the framebuffer the main camera draws into, before anything overwrote
 //! it: `multiview::scene`) and resizes the quilt if the window changed; `--exit-after` ends
-//! the process last.
+//! the process last. Live changes (`holoinject ctl`, hotkeys) are applied first, on this
+//! thread: the values they queued (`config::live`) go into each context's settings, so a
+//! frame never mixes old and new values.
 //!
 //! ## Environment
 //! The layer reads only `HOLOINJECT_*` variables (`holoinject run --foo-bar` sets
@@ -87,6 +91,7 @@
 
 pub mod camera;
 pub mod config;
+pub mod control;
 pub mod gl;
 pub mod hook;
 pub mod log;

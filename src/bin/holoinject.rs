@@ -35,15 +35,24 @@ fn run() -> Result<(), String> {
         Some("quilt") => quilt::run(&args[1..]),
         Some("doctor") => doctor::run(&args[1..]),
         Some("__probe") => probe::run(&args[1..]),
+        Some("ctl") => ctl(&args[1..]),
         Some("--version" | "-V") => {
             println!("holoinject {}", env!("CARGO_PKG_VERSION"));
             Ok(())
         }
         Some("--help" | "-h" | "help") | None => print_help(),
         Some(other) => Err(format!(
-            "unknown command `{other}`; usage: holoinject run [OPTIONS] -- PROGRAM [ARGS…]"
+            "unknown command `{other}`; usage: holoinject run [OPTIONS] -- PROGRAM [ARGS…] | holoinject ctl …"
         )),
     }
+}
+
+/// `holoinject ctl …`: one request to a running program's layer (README "Live controls").
+fn ctl(args: &[OsString]) -> Result<(), String> {
+    let args: Vec<String> = args.iter().map(|a| a.to_string_lossy().into_owned()).collect();
+    let reply = holoinject::control::client::ctl(&args, &|k| std::env::var(k).ok())?;
+    print!("{reply}");
+    Ok(())
 }
 
 fn print_help() -> Result<(), String> {

@@ -41,6 +41,7 @@ impl CameraEstimate {
     /// Depthiness and convergence for the current layout and scene (DESIGN §3 defaults).
     pub fn update_rig(&mut self, settings: &ViewSettings, views: u32, tile_w: u32) {
         self.rig.views = views;
+        self.rig.focus = settings.focus;
         self.rig.depthiness = depthiness(settings.depthiness, settings.view_cone, self.last_fx, views, tile_w);
         self.rig.convergence = match settings.convergence {
             Convergence::Fixed(c) => c,

@@ -129,6 +129,7 @@ pub fn help() -> String {
          usage: holoinject run [OPTIONS] [--] PROGRAM [ARGS…]\n       holoinject presets\n       \
          holoinject doctor [--device NAME|PATH] [-- PROGRAM]   check this machine, one line per check\n       \
          holoinject quilt FILE.png|FILE.mp4 --device NAME|PATH --out OUT.png [--quilt CxR] [--frame N]\n       \
+         holoinject ctl [--pid P] set KEY VALUE | get [KEY] | dump [DIR] | save-preset | list\n       \
          holoinject --version\n\n\
          Each option --foo-bar sets HOLOINJECT_FOO_BAR for the layer (libholoinject.so, found\n\
          beside this binary or at $HOLOINJECT_LIB), which is appended to LD_PRELOAD.\n\noptions:\n",

@@ -5,9 +5,11 @@
 pub mod calibration;
 pub mod cli;
 pub mod device;
+pub mod live;
 pub mod options;
 pub mod parse;
 pub mod preset;
+pub mod preset_save;
 #[cfg(test)]
 mod tests_mutations;
 
@@ -73,6 +75,19 @@ pub enum Preview {
     Mono,
     Quilt,
     Off,
+}
+
+impl Output {
+    /// The option value naming it (`--output`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Output::Native => "native",
+            Output::Quilt => "quilt",
+            Output::SideBySide => "sbs",
+            Output::Anaglyph => "anaglyph",
+            Output::Mono => "mono",
+        }
+    }
 }
 
 /// Which of the app's framebuffers get layered shadows.
@@ -229,6 +244,32 @@ impl ViewSettings {
     }
 }
 
+impl ViewSettings {
+    /// Sets option `long` from its (already checked) value; the environment, presets and
+    /// live changes (`live`) all go through here. Options that are not view settings are
+    /// left to the caller.
+    pub fn set(&mut self, long: &str, value: &str) {
+        match long {
+            "output" => self.output = parse::output(value).unwrap_or(self.output),
+            "device" => self.device = device::load(value).ok(),
+            "weave-filter" => self.weave_filter = parse::weave_filter(value).unwrap_or(self.weave_filter),
+            "depthiness" => self.depthiness = parse::finite(value).ok(),
+            "fbo-views" => self.fbo_views = parse::fbo_views(value).unwrap_or(FboViews::Auto),
+            "fbo-scale" => self.fbo_scale = parse::fbo_scale(value).unwrap_or(FboScale::Window),
+            "view-cone" => self.view_cone = parse::view_cone(value).ok(),
+            "convergence" => self.convergence = parse::convergence(value).unwrap_or(Convergence::Auto),
+            "focus" => self.focus = parse::finite(value).unwrap_or(0.0),
+            "mode" => self.mode = parse::mode(value).unwrap_or(Mode::Exact),
+            "reuse" => self.reuse = parse::switch(value).unwrap_or(false),
+            "reuse-motion" => self.reuse_motion = parse::reuse_motion(value).unwrap_or(Some(0.02)),
+            "synth-threshold" => self.synth_threshold = parse::synth_threshold(value).unwrap_or(1.0),
+            "synth-warp" => self.synth_warp = parse::synth_warp(value).unwrap_or(SynthWarp::Rows),
+            "measure-error" => self.measure_error = parse::frames(value).ok(),
+            _ => {}
+        }
+    }
+}
+
 impl Default for ViewSettings {
     fn default() -> Self {
         ViewSettings {
@@ -271,6 +312,10 @@ pub struct Settings {
     /// `--record`: the video to write (its name gets the quilt tag).
     pub record: Option<PathBuf>,
     pub osmesa_boundary: Boundary,
+    /// `--overlay`: live values drawn into the presented image after each change.
+    pub overlay: bool,
+    /// `--hotkeys`: the modifiers of the layer's key grabs (`None`: off).
+    pub hotkeys: Option<Vec<String>>,
     pub view: ViewSettings,
 }
 
@@ -282,6 +327,8 @@ impl Default for Settings {
             exit_after: None,
             record: None,
             osmesa_boundary: Boundary::Finish,
+            overlay: false,
+            hotkeys: parse::hotkeys(parse::DEFAULT_HOTKEYS).unwrap_or_default(),
             view: ViewSettings::default(),
         }
     }
@@ -334,22 +381,10 @@ impl Settings {
                 "monitor" => s.view.monitor = parse::monitor(&value).ok(),
                 "quilt" => quilt = parse::quilt(&value).ok(),
                 "tile" => tile = parse::grid(&value).ok(),
-                "device" => s.view.device = device::load(&value).ok(),
-                "weave-filter" => s.view.weave_filter = parse::weave_filter(&value).unwrap_or(s.view.weave_filter),
-                "depthiness" => s.view.depthiness = parse::finite(&value).ok(),
-                "fbo-views" => s.view.fbo_views = parse::fbo_views(&value).unwrap_or(FboViews::Auto),
-                "fbo-scale" => s.view.fbo_scale = parse::fbo_scale(&value).unwrap_or(FboScale::Window),
-                "view-cone" => s.view.view_cone = parse::view_cone(&value).ok(),
-                "convergence" => s.view.convergence = parse::convergence(&value).unwrap_or(Convergence::Auto),
-                "focus" => s.view.focus = parse::finite(&value).unwrap_or(0.0),
-                "mode" => s.view.mode = parse::mode(&value).unwrap_or(Mode::Exact),
-                "reuse" => s.view.reuse = parse::switch(&value).unwrap_or(false),
-                "reuse-motion" => s.view.reuse_motion = parse::reuse_motion(&value).unwrap_or(Some(0.02)),
-                "synth-threshold" => s.view.synth_threshold = parse::synth_threshold(&value).unwrap_or(1.0),
-                "synth-warp" => s.view.synth_warp = parse::synth_warp(&value).unwrap_or(SynthWarp::Rows),
-                "measure-error" => s.view.measure_error = parse::frames(&value).ok(),
+                "overlay" => s.overlay = parse::switch(&value).unwrap_or(false),
+                "hotkeys" => s.hotkeys = parse::hotkeys(&value).unwrap_or_default(),
                 "frame-budget" => budget = parse::frame_budget(&value).ok().map(|b| (b, var)),
-                _ => {}
+                _ => s.view.set(opt.long, &value),
             }
         }
         if let Err(e) = parse::reuse_with(s.view.reuse, s.view.mode) {

@@ -71,6 +71,27 @@ pub fn switch(v: &str) -> Result<bool, String> {
     }
 }
 
+/// `--hotkeys` when not given: the layer grabs Ctrl+Alt with its keys (README "Live controls").
+pub const DEFAULT_HOTKEYS: &str = "ctrl+alt";
+
+/// `--hotkeys off|MOD+MOD…`: the modifiers held with every hotkey (`None`: no hotkeys).
+pub fn hotkeys(v: &str) -> Result<Option<Vec<String>>, String> {
+    let v = v.trim().to_ascii_lowercase();
+    if v == "off" {
+        return Ok(None);
+    }
+    let mods: Vec<String> = v.split('+').map(|m| m.trim().to_string()).collect();
+    match mods
+        .iter()
+        .find(|m| !["ctrl", "alt", "shift", "super"].contains(&m.as_str()))
+    {
+        Some(bad) => Err(format!(
+            "`{bad}`: expected off or modifiers joined by +, from ctrl, alt, shift, super"
+        )),
+        None => Ok(Some(mods)),
+    }
+}
+
 /// `--reuse` is only meaningful where views are synthesised: `Err` is the one line saying so.
 pub fn reuse_with(reuse: bool, mode: Mode) -> Result<(), String> {
     match mode {

@@ -44,6 +44,10 @@ macro_rules! bundled {
 /// Embedded so the layer needs no files at run time; tested programs only.
 const BUNDLED: &[(&str, &str)] = bundled!["glxgears", "es2gears", "glmark2", "chromium-bsu"];
 
+pub fn bundled_text(name: &str) -> Option<&'static str> {
+    BUNDLED.iter().find(|(n, _)| *n == name).map(|(_, t)| *t)
+}
+
 pub fn bundled_names() -> Vec<&'static str> {
     BUNDLED.iter().map(|(n, _)| *n).collect()
 }

@@ -12,6 +12,8 @@ use std::any::Any;
 pub struct Layer {
     pub views: Multiview,
     pub presenter: Presenter,
+    /// The generation of live values (`config::live`) applied to `views.settings`.
+    pub live_generation: u64,
 }
 
 impl ContextLayer for Layer {
@@ -87,6 +89,7 @@ pub fn on_make_current() {
             Box::new(Layer {
                 views: Multiview::new(*info, settings.view.clone(), window),
                 presenter: Presenter::default(),
+                live_generation: 0,
             })
         });
         if let Some(layer) = slot.as_any_mut().downcast_mut::<Layer>() {

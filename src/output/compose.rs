@@ -147,6 +147,7 @@ pub fn present(
             );
         }
     }
+    presenter.overlay.draw(gl, out_fbo, window)?;
     if let Some(s) = presenter.staging.as_ref().filter(|_| staged) {
         // SAFETY: the real default framebuffer as destination; restored by the guard.
         unsafe { gl.BindFramebuffer(DRAW_FRAMEBUFFER, 0) };

@@ -46,7 +46,8 @@ pub fn present_frame(
     window: (u32, u32),
     settings: &Settings,
 ) -> Result<(), String> {
-    let output = settings.view.output;
+    // The context's own: `--output` changed live (holoinject ctl, hotkeys) is there.
+    let output = mv.settings.output;
     let Some(monitor) = device_for(settings) else {
         return presenter.present(gl, mv, window, output);
     };

@@ -15,6 +15,7 @@ pub mod encoder;
 pub mod glx;
 pub mod monitor;
 pub mod native;
+pub mod overlay;
 pub mod pass;
 pub mod png;
 pub mod quilt_file;
@@ -42,6 +43,8 @@ pub struct Presenter {
     pub device_staging: Option<staging::Staging>,
     /// `--record`: this context's read-back buffers, when it records.
     pub recorder: record::Recorder,
+    /// `--overlay`: the live values, drawn over what is presented.
+    pub overlay: overlay::Overlay,
 }
 
 impl Presenter {
@@ -59,7 +62,7 @@ impl Presenter {
     /// The quilt and, after a native present, the weave, as PNGs of frame `frame`.
     pub fn dump(&self, frame: u64, gl: &Gl, mv: &Multiview, settings: &Settings) -> Result<(), String> {
         dump::quilt(frame, gl, mv, settings)?;
-        if settings.view.output == Output::Native {
+        if mv.settings.output == Output::Native {
             dump::native(frame, gl, self, mv.info, settings)?;
         }
         Ok(())
@@ -69,7 +72,8 @@ impl Presenter {
     /// passes' vertex array.
     pub fn context_objects(&self) -> crate::multiview::ContextObjects {
         crate::multiview::ContextObjects {
-            framebuffers: usize::from(self.native.as_ref().is_some_and(|n| n.fbo != 0)),
+            framebuffers: usize::from(self.native.as_ref().is_some_and(|n| n.fbo != 0))
+                + usize::from(self.overlay.fbo != 0),
             vertex_arrays: usize::from(self.passes.vao != 0),
         }
     }
@@ -81,6 +85,7 @@ impl Presenter {
         o.textures.extend(self.native.as_ref().map(|n| n.color));
         o.textures.extend(self.staging.as_ref().map(|s| s.color));
         o.textures.extend(self.device_staging.as_ref().map(|s| s.color));
+        o.textures.push(self.overlay.texture);
         o.programs.extend(self.passes.programs());
         o.buffers.extend(self.recorder.buffers());
         o.without_zeros()

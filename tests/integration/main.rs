@@ -18,6 +18,7 @@ mod fbo_scale;
 mod forced_failures;
 mod launcher;
 mod layer_library;
+mod live_controls;
 mod output_modes;
 mod real_programs;
 mod reattachment;
