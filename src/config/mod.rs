@@ -4,6 +4,7 @@
 
 pub mod calibration;
 pub mod cli;
+pub mod comfort;
 pub mod device;
 pub mod options;
 pub mod parse;
@@ -154,6 +155,8 @@ pub struct ViewSettings {
     pub measure_error: Option<FrameSet>,
     /// `--mode auto`: the frame time to meet (ms).
     pub frame_budget_ms: f64,
+    /// The comfort effects (read every frame, so they may change while the app runs).
+    pub comfort: comfort::ComfortSettings,
 }
 
 /// How synthesised views are warped (README "Choosing a mode").
@@ -213,6 +216,36 @@ impl Default for ViewSettings {
             synth_warp: SynthWarp::Rows,
             measure_error: None,
             frame_budget_ms: DEFAULT_FRAME_BUDGET_MS,
+            comfort: comfort::ComfortSettings::default(),
+        }
+    }
+}
+
+/// The comfort options as given, before the device's defaults are known.
+struct ComfortChoice {
+    /// `--depth-remap`: `Some(None)` is an explicit `off`.
+    remap: Option<Option<crate::camera::comfort::DepthRemap>>,
+    /// `--comfort`.
+    on: bool,
+}
+
+impl Default for ComfortChoice {
+    fn default() -> Self {
+        ComfortChoice { remap: None, on: true }
+    }
+}
+
+impl ComfortChoice {
+    /// An explicit `--depth-remap` wins; else the device's comfortable range turns the remap
+    /// on; the fade and depth of field measure from the remap's range, else the device's.
+    /// `--comfort off` turns all three off.
+    fn resolve(self, view: &mut ViewSettings) {
+        let device = view.device.as_ref().and_then(|d| d.comfort);
+        let c = &mut view.comfort;
+        c.remap = self.remap.unwrap_or(device);
+        c.range = c.remap.or(device);
+        if !self.on {
+            *c = comfort::ComfortSettings::default();
         }
     }
 }
@@ -260,6 +293,7 @@ impl Settings {
     ) -> Settings {
         let mut s = Settings::default();
         let (mut quilt, mut tile, mut output, mut budget) = (None, None, None, None);
+        let mut comfort = ComfortChoice::default();
         // The preset itself was chosen (and any problem with it reported) by the caller.
         for opt in options::OPTIONS
             .iter()
@@ -301,6 +335,10 @@ impl Settings {
                 "synth-warp" => s.view.synth_warp = parse::synth_warp(&value).unwrap_or(SynthWarp::Rows),
                 "measure-error" => s.view.measure_error = parse::frames(&value).ok(),
                 "frame-budget" => budget = parse::frame_budget(&value).ok().map(|b| (b, var)),
+                "depth-remap" => comfort.remap = comfort::depth_remap(&value).ok(),
+                "edge-fade" => s.view.comfort.edge_fade = comfort::edge_fade(&value).unwrap_or(None),
+                "dof" => s.view.comfort.dof = comfort::dof(&value).unwrap_or(None),
+                "comfort" => comfort.on = comfort::comfort(&value).unwrap_or(true),
                 _ => {}
             }
         }
@@ -310,6 +348,7 @@ impl Settings {
         }
         s.view.resolve(quilt, tile, output);
         s.view.apply_budget(budget, report);
+        comfort.resolve(&mut s.view);
         s
     }
 
@@ -412,6 +451,28 @@ mod tests {
         let mut errors = vec![];
         let s = Settings::from_sources(|_| None, Some(&p), &mut |e| errors.push(e));
         assert!(s.view.reuse && errors.is_empty(), "{errors:?}");
+    }
+
+    #[test]
+    fn comfort_defaults_come_from_the_device_and_comfort_off_wins() {
+        let (s, errors) = settings_of(&[("HOLOINJECT_DEVICE", "portrait")]);
+        assert!(errors.is_empty(), "{errors:?}");
+        assert_eq!(s.view.comfort.remap, Some(comfort::DEFAULT_RANGE));
+        let (s, _) = settings_of(&[("HOLOINJECT_DEVICE", "portrait"), ("HOLOINJECT_DEPTH_REMAP", "off")]);
+        assert_eq!((s.view.comfort.remap, s.view.comfort.range), (None, Some(comfort::DEFAULT_RANGE)));
+        let (s, _) = settings_of(&[("HOLOINJECT_DEPTH_REMAP", "5,6,7,8"), ("HOLOINJECT_DOF", "on")]);
+        assert_eq!(s.view.comfort.range().back, 6.0);
+        assert_eq!(s.view.comfort.dof, Some(1.0));
+        let (s, _) = settings_of(&[
+            ("HOLOINJECT_DEVICE", "go"),
+            ("HOLOINJECT_EDGE_FADE", "30"),
+            ("HOLOINJECT_COMFORT", "off"),
+        ]);
+        assert_eq!(s.view.comfort, comfort::ComfortSettings::default());
+        // Without a device nothing is on.
+        assert_eq!(settings_of(&[]).0.view.comfort, comfort::ComfortSettings::default());
+        let (_, errors) = settings_of(&[("HOLOINJECT_DEPTH_REMAP", "1,2,3")]);
+        assert!(errors[0].starts_with("HOLOINJECT_DEPTH_REMAP=1,2,3: `1,2,3`: expected"), "{errors:?}");
     }
 
     #[test]

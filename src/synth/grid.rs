@@ -40,7 +40,7 @@ impl Programs {
     pub fn link(gl: &Gl, info: GlInfo) -> Result<Programs, String> {
         let link = |frag| crate::gl::program::link(gl, info, FULLSCREEN_VERT, frag);
         let p = Programs {
-            parallax: link(PARALLAX_FRAG).map_err(|e| format!("synthesis parallax pass: {e}"))?,
+            parallax: link(&crate::camera::comfort::with_glsl(PARALLAX_FRAG)).map_err(|e| format!("synthesis parallax pass: {e}"))?,
             minmax: link(MINMAX_FRAG).map_err(|e| format!("synthesis pyramid pass: {e}"))?,
             leaves: link_grid_pass(gl, LEAVES_COMP).map_err(|e| format!("synthesis grid pass: {e}"))?,
             columns: link_grid_pass(gl, COLUMNS_COMP).map_err(|e| format!("synthesis column pass: {e}"))?,
@@ -217,6 +217,10 @@ impl Pass<'_> {
             gl.Uniform1i(loc(gl, p.parallax, "u_layer"), j as i32);
             let m = job.model;
             gl.Uniform4f(loc(gl, p.parallax, "u_model"), m.a_hi, m.a_lo, m.scale, 0.0);
+            let r = job.remap;
+            gl.Uniform4f(loc(gl, p.parallax, "u_remap"), r[0], r[1], r[2], r[3]);
+            let k = job.depthiness * job.tile.0 as f64 / 2.0;
+            gl.Uniform1f(loc(gl, p.parallax, "u_px_per_parallax"), k as f32);
         }
         self.fullscreen(p.parallax, res.parallax, j, res.tile);
         self.attach(COLOR_ATTACHMENT0, 0, 0);
