@@ -100,3 +100,17 @@ fn edge_fade_touches_only_the_border_bands() {
         );
     }
 }
+
+#[test]
+fn synthesis_warps_by_the_remapped_disparity() {
+    let (off, _) = quilt("remap-synth", "off", &["--mode", "synth"]);
+    let (max_off, _) = outer_disparity(&off);
+    assert!(max_off > 20.0, "synth without the remap: {max_off} px");
+    for mode in ["synth", "synth:pixel"] {
+        let (on, at) = quilt("remap-synth", mode, &["--mode", mode, "--depth-remap", "4,4,8,10"]);
+        let (max_on, n) = outer_disparity(&on);
+        eprintln!("{mode}: outer-view block shifts, 90th percentile: {max_off:.1} px off, {max_on:.1} px remapped ({n} blocks)");
+        // As in the exact test: the asymptote plus the matcher's error.
+        assert!(n >= 20 && max_on <= 10.5, "{mode}: {max_on} px ({n} blocks): {}", at.display());
+    }
+}
