@@ -13,6 +13,7 @@ uniform vec4 u_range;       // the comfortable range (F, B, D_F, D_B) the effect
 uniform float u_fade;       // edge band in px (0: off)
 uniform float u_radius;     // largest blur radius in px (0: off)
 uniform vec4 u_background;  // what the fade goes to: the app's clear colour
+uniform float u_far_depth;  // window depth where nothing was drawn (1, or 0 under reversed-Z)
 out vec4 frag_color;
 
 // 12 taps of a Poisson disc of radius 1 (minimum distance 0.4, generated once by dart throwing).
@@ -59,7 +60,9 @@ void main()
     vec4 c = texelFetch(u_color, p, 0);
     float D = disparity(p);
     float r = coc(D);
-    if (r >= 0.5)
+    // Where nothing was drawn the clear colour is uniform: gathering it is most of a deep
+    // scene's cost (llvmpipe) and changes little, so only drawn pixels are blurred.
+    if (r >= 0.5 && texelFetch(u_depth, p, 0).r != u_far_depth)
         c.rgb = blurred(p, r, c.rgb);
     if (u_fade > 0.0 && D < 0.0) {
         float x = float(p.x - u_tile.x) + 0.5;

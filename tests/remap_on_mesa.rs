@@ -35,7 +35,10 @@ fn mesa() -> Mesa {
     PASS_THROUGH.call_once(|| unsafe { std::env::set_var("HOLOINJECT_OUTPUT", "mono") });
     let platform = create(holoapps::cli::Backend::OsMesa, (16, 16), Profile::Core33).expect("OSMesa context");
     let gl = Gl::load_with(|s| platform.get_proc_address(s));
-    Mesa { _platform: platform, gl }
+    Mesa {
+        _platform: platform,
+        gl,
+    }
 }
 
 /// A vertex-only program capturing `varying` with transform feedback.
@@ -87,7 +90,12 @@ fn run(gl: &Gl, program: u32, points: &[[f32; 4]], components: usize) -> Vec<f32
         gl.GenBuffers(1, &mut tfb);
         let out_bytes = (points.len() * components * 4) as isize;
         gl.BindBuffer(gl::TRANSFORM_FEEDBACK_BUFFER, tfb);
-        gl.BufferData(gl::TRANSFORM_FEEDBACK_BUFFER, out_bytes, std::ptr::null(), gl::STATIC_READ);
+        gl.BufferData(
+            gl::TRANSFORM_FEEDBACK_BUFFER,
+            out_bytes,
+            std::ptr::null(),
+            gl::STATIC_READ,
+        );
         gl.BindBufferBase(gl::TRANSFORM_FEEDBACK_BUFFER, 0, tfb);
         gl.Enable(gl::RASTERIZER_DISCARD);
         gl.BeginTransformFeedback(gl::POINTS);
@@ -119,7 +127,16 @@ fn glsl_remap_matches_f64() {
     let program = capture_program(gl, &src, "y");
     let r = remap();
     let mut xs: Vec<f32> = (-2000..=2000).map(|k| k as f32 * 0.25).collect();
-    xs.extend([f32::INFINITY, f32::NEG_INFINITY, f32::MAX, -f32::MAX, 1e30, -1e30, -30.0, 40.0]);
+    xs.extend([
+        f32::INFINITY,
+        f32::NEG_INFINITY,
+        f32::MAX,
+        -f32::MAX,
+        1e30,
+        -1e30,
+        -30.0,
+        40.0,
+    ]);
     let points: Vec<[f32; 4]> = xs.iter().map(|&x| [x, 0.0, 0.0, 1.0]).collect();
     // SAFETY (test): binding our program to set its uniform.
     unsafe { gl.UseProgram(program) };
@@ -132,7 +149,10 @@ fn glsl_remap_matches_f64() {
         // f32 rounding of a handful of operations on values up to the asymptote's size.
         let err = (y as f64 - want).abs();
         worst = worst.max(err);
-        assert!(err <= 8.0 * f32::EPSILON as f64 * want.abs().max(120.0), "R({x}): Mesa {y}, f64 {want}");
+        assert!(
+            err <= 8.0 * f32::EPSILON as f64 * want.abs().max(120.0),
+            "R({x}): Mesa {y}, f64 {want}"
+        );
     }
     println!("remap on Mesa vs f64: worst {worst:.2e} px over {} inputs", xs.len());
     // Off (r = 0): the identity, bit for bit.
@@ -146,7 +166,11 @@ fn injected_shift_with_remap_gives_the_remapped_disparity() {
     let mesa = mesa();
     let gl = &mesa.gl;
     let plain = capture_program(gl, VERTEX, "gl_Position");
-    let rewritten = capture_program(gl, &rewrite(VERTEX, &analyse(VERTEX, Stage::Vertex)).unwrap(), "gl_Position");
+    let rewritten = capture_program(
+        gl,
+        &rewrite(VERTEX, &analyse(VERTEX, Stage::Vertex)).unwrap(),
+        "gl_Position",
+    );
     let (s, c, f) = (0.45f64, 5.0f64, 0.01f64);
     let px_per_parallax = s * TILE_W / 2.0;
     let r = remap();
@@ -162,14 +186,21 @@ fn injected_shift_with_remap_gives_the_remapped_disparity() {
     set4(gl, rewritten, REMAP_UNIFORM, comfort);
     set4(gl, rewritten, VIEW_UNIFORM, [0.0, c as f32, 0.0, mode]);
     let centre = run(gl, rewritten, &points, 4);
-    assert!(own.iter().zip(&centre).all(|(a, b)| a.to_bits() == b.to_bits()), "centre view differs");
+    assert!(
+        own.iter().zip(&centre).all(|(a, b)| a.to_bits() == b.to_bits()),
+        "centre view differs"
+    );
     // The outermost view (u = 1): k = s, h = f.
     set4(gl, rewritten, VIEW_UNIFORM, [s as f32, c as f32, f as f32, mode]);
     let outer = run(gl, rewritten, &points, 4);
     let (mut worst, mut largest): (f64, f64) = (0.0, 0.0);
     for (k, &w) in ws.iter().enumerate() {
         let (x0, x1, w32) = (own[4 * k] as f64, outer[4 * k] as f64, outer[4 * k + 3] as f64);
-        assert_eq!(outer[4 * k + 1..4 * k + 4], own[4 * k + 1..4 * k + 4], "y, z or w changed");
+        assert_eq!(
+            outer[4 * k + 1..4 * k + 4],
+            own[4 * k + 1..4 * k + 4],
+            "y, z or w changed"
+        );
         let got = (x1 - x0) / w32 * TILE_W / 2.0;
         let want = r.apply(px_per_parallax * (1.0 - c / w)) + f * TILE_W / 2.0;
         worst = worst.max((got - want).abs());

@@ -17,7 +17,11 @@ fn any_remap() -> impl Strategy<Value = DepthRemap> {
 fn bad_parameters_are_refused_with_a_reason() {
     assert!(DepthRemap::new(10.0, 20.0, 10.0, 60.0).unwrap_err().contains("DF > F"));
     assert!(DepthRemap::new(-1.0, 20.0, 25.0, 60.0).unwrap_err().contains("≥ 0"));
-    assert!(DepthRemap::new(1.0, f64::NAN, 25.0, 60.0).unwrap_err().contains("finite"));
+    assert!(
+        DepthRemap::new(1.0, f64::NAN, 25.0, 60.0)
+            .unwrap_err()
+            .contains("finite")
+    );
 }
 
 #[test]
@@ -29,7 +33,10 @@ fn joins_are_continuous_with_slope_one() {
         let h = 1e-6;
         let left = (r.apply(join) - r.apply(join - h)) / h;
         let right = (r.apply(join + h) - r.apply(join)) / h;
-        assert!((left - 1.0).abs() < 1e-5 && (right - 1.0).abs() < 1e-5, "{join}: {left} {right}");
+        assert!(
+            (left - 1.0).abs() < 1e-5 && (right - 1.0).abs() < 1e-5,
+            "{join}: {left} {right}"
+        );
     }
 }
 
@@ -59,7 +66,10 @@ fn scaled_remap_is_r_of_k_x_over_k() {
         for x in [-1e3, -9.0, -1.0, 0.0, 0.5, 3.0, 7.0, 80.0, 1e6] {
             let want = r.apply(k * x) / k;
             let got = q.apply(x);
-            assert!((got - want).abs() <= 1e-9 * want.abs().max(1.0), "k {k} x {x}: {got} vs {want}");
+            assert!(
+                (got - want).abs() <= 1e-9 * want.abs().max(1.0),
+                "k {k} x {x}: {got} vs {want}"
+            );
         }
     }
     assert!(r.scaled(0.0).is_none() && r.scaled(f64::NAN).is_none());

@@ -125,7 +125,10 @@ mod tests {
         assert!(depth_remap("10,20,5,40").unwrap_err().contains("DF > F"));
         assert_eq!(edge_fade("24"), Ok(Some(24.0)));
         assert!(edge_fade("-3").is_err() && edge_fade("wide").is_err());
-        assert_eq!((dof("on"), dof("off"), dof("2.5")), (Ok(Some(1.0)), Ok(None), Ok(Some(2.5))));
+        assert_eq!(
+            (dof("on"), dof("off"), dof("2.5")),
+            (Ok(Some(1.0)), Ok(None), Ok(Some(2.5)))
+        );
         assert!(dof("0").is_err() && dof("NaN").is_err());
         assert!(comfort("maybe").unwrap_err().contains("on or off"));
     }

@@ -14,7 +14,14 @@ pub struct Device {
 }
 
 fn derived_comfort(c: &Calibration, q: &QuiltDefaults) -> Option<crate::camera::comfort::DepthRemap> {
-    super::comfort::device_range(c.pitch, c.dpi, c.screen_w, c.view_cone, q.columns * q.rows, q.tile_width)
+    super::comfort::device_range(
+        c.pitch,
+        c.dpi,
+        c.screen_w,
+        c.view_cone,
+        q.columns * q.rows,
+        q.tile_width,
+    )
 }
 
 fn quilt_for_serial(serial: Option<&str>) -> Option<QuiltDefaults> {

@@ -459,7 +459,10 @@ mod tests {
         assert!(errors.is_empty(), "{errors:?}");
         assert_eq!(s.view.comfort.remap, Some(comfort::DEFAULT_RANGE));
         let (s, _) = settings_of(&[("HOLOINJECT_DEVICE", "portrait"), ("HOLOINJECT_DEPTH_REMAP", "off")]);
-        assert_eq!((s.view.comfort.remap, s.view.comfort.range), (None, Some(comfort::DEFAULT_RANGE)));
+        assert_eq!(
+            (s.view.comfort.remap, s.view.comfort.range),
+            (None, Some(comfort::DEFAULT_RANGE))
+        );
         let (s, _) = settings_of(&[("HOLOINJECT_DEPTH_REMAP", "5,6,7,8"), ("HOLOINJECT_DOF", "on")]);
         assert_eq!(s.view.comfort.range().back, 6.0);
         assert_eq!(s.view.comfort.dof, Some(1.0));
@@ -472,7 +475,10 @@ mod tests {
         // Without a device nothing is on.
         assert_eq!(settings_of(&[]).0.view.comfort, comfort::ComfortSettings::default());
         let (_, errors) = settings_of(&[("HOLOINJECT_DEPTH_REMAP", "1,2,3")]);
-        assert!(errors[0].starts_with("HOLOINJECT_DEPTH_REMAP=1,2,3: `1,2,3`: expected"), "{errors:?}");
+        assert!(
+            errors[0].starts_with("HOLOINJECT_DEPTH_REMAP=1,2,3: `1,2,3`: expected"),
+            "{errors:?}"
+        );
     }
 
     #[test]

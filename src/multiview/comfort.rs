@@ -21,5 +21,9 @@ pub fn remap_uniform(mv: &Multiview) -> [f32; 4] {
 
 /// The remap in tile pixels, as the warps apply it to the outermost view's disparity, or off.
 pub fn remap_pixels(mv: &Multiview) -> [f32; 4] {
-    mv.settings.comfort.remap.as_ref().map_or(REMAP_OFF, DepthRemap::uniform)
+    mv.settings
+        .comfort
+        .remap
+        .as_ref()
+        .map_or(REMAP_OFF, DepthRemap::uniform)
 }

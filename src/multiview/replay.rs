@@ -81,7 +81,9 @@ fn replay(
         crate::log::once_for(
             ("remap-fixed-function", 0),
             crate::log::Level::Info,
-            format_args!("--depth-remap: fixed-function draws keep the plain shift (a projection matrix cannot bend disparity)"),
+            format_args!(
+                "--depth-remap: fixed-function draws keep the plain shift (a projection matrix cannot bend disparity)"
+            ),
         );
     }
     let fixed = matches!(shift, Shift::Projection(_));

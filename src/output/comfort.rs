@@ -81,7 +81,12 @@ impl ComfortCopies {
 
 /// Applies the fade and the depth of field to `mv`'s quilt, if either is on; all GL state
 /// is restored. `Ok` without drawing when no depth model is known yet.
-pub fn apply(gl: &Gl, passes: &mut super::pass::Passes, copies: &mut ComfortCopies, mv: &Multiview) -> Result<(), String> {
+pub fn apply(
+    gl: &Gl,
+    passes: &mut super::pass::Passes,
+    copies: &mut ComfortCopies,
+    mv: &Multiview,
+) -> Result<(), String> {
     let c = mv.settings.comfort;
     if !c.post_pass() {
         return Ok(());
@@ -151,7 +156,23 @@ fn copy(gl: &Gl, copies: &ComfortCopies, (resolved, drawn): (u32, u32), (w, h): 
     // SAFETY: copies between textures and framebuffers of ours and the quilt's; bindings
     // restored by the caller's guard (the scissor test is off: `neutral_state`).
     unsafe {
-        gl.CopyImageSubData(resolved, TEXTURE_2D, 0, 0, 0, 0, copies.textures[0], TEXTURE_2D, 0, 0, 0, 0, w, h, 1);
+        gl.CopyImageSubData(
+            resolved,
+            TEXTURE_2D,
+            0,
+            0,
+            0,
+            0,
+            copies.textures[0],
+            TEXTURE_2D,
+            0,
+            0,
+            0,
+            0,
+            w,
+            h,
+            1,
+        );
         gl.BindFramebuffer(READ_FRAMEBUFFER, drawn);
         gl.BindFramebuffer(DRAW_FRAMEBUFFER, depth);
         gl.BlitFramebuffer(0, 0, w, h, 0, 0, w, h, DEPTH_BUFFER_BIT, NEAREST);
@@ -181,6 +202,7 @@ fn set_uniforms(gl: &Gl, program: u32, mv: &Multiview, m: ParallaxModel, flipped
         gl.Uniform4f(u("u_remap"), remap[0], remap[1], remap[2], remap[3]);
         gl.Uniform4f(u("u_range"), range[0], range[1], range[2], range[3]);
         gl.Uniform1f(u("u_fade"), c.edge_fade.unwrap_or(0.0) as f32);
+        gl.Uniform1f(u("u_far_depth"), m.far_depth());
         gl.Uniform1f(u("u_radius"), (c.dof.unwrap_or(0.0) * RADIUS_PER_STRENGTH) as f32);
         let b = background;
         gl.Uniform4f(u("u_background"), b[0], b[1], b[2], b[3]);

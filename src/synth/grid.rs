@@ -40,7 +40,8 @@ impl Programs {
     pub fn link(gl: &Gl, info: GlInfo) -> Result<Programs, String> {
         let link = |frag| crate::gl::program::link(gl, info, FULLSCREEN_VERT, frag);
         let p = Programs {
-            parallax: link(&crate::camera::comfort::with_glsl(PARALLAX_FRAG)).map_err(|e| format!("synthesis parallax pass: {e}"))?,
+            parallax: link(&crate::camera::comfort::with_glsl(PARALLAX_FRAG))
+                .map_err(|e| format!("synthesis parallax pass: {e}"))?,
             minmax: link(MINMAX_FRAG).map_err(|e| format!("synthesis pyramid pass: {e}"))?,
             leaves: link_grid_pass(gl, LEAVES_COMP).map_err(|e| format!("synthesis grid pass: {e}"))?,
             columns: link_grid_pass(gl, COLUMNS_COMP).map_err(|e| format!("synthesis column pass: {e}"))?,

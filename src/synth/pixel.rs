@@ -45,7 +45,8 @@ impl Programs {
         let link = |v, f| crate::gl::program::link(gl, info, v, f);
         let (pull, push) = super::pull_push::link(gl, info)?;
         Ok(Programs {
-            splat: link(&crate::camera::comfort::with_glsl(SPLAT_VERT), SPLAT_FRAG).map_err(|e| format!("per-pixel splat pass: {e}"))?,
+            splat: link(&crate::camera::comfort::with_glsl(SPLAT_VERT), SPLAT_FRAG)
+                .map_err(|e| format!("per-pixel splat pass: {e}"))?,
             pull,
             push,
         })

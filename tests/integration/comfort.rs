@@ -7,7 +7,16 @@ use crate::util::*;
 const GRID: (u32, u32) = (3, 1);
 /// Outermost-view disparity at infinity: depthiness 0.3 in 320-px tiles is 48 px.
 const RIG: [&str; 10] = [
-    "--quilt", "3x1", "--tile", "320x240", "--output", "quilt", "--convergence", "20", "--depthiness", "0.3",
+    "--quilt",
+    "3x1",
+    "--tile",
+    "320x240",
+    "--output",
+    "quilt",
+    "--convergence",
+    "20",
+    "--depthiness",
+    "0.3",
 ];
 
 fn quilt(test: &str, name: &str, comfort: &[&str]) -> (Image, std::path::PathBuf) {
@@ -15,7 +24,16 @@ fn quilt(test: &str, name: &str, comfort: &[&str]) -> (Image, std::path::PathBuf
     let mut layer: Vec<&str> = RIG.to_vec();
     layer.extend_from_slice(comfort);
     layer.extend(dump_and_exit_at(&dir, "2"));
-    let args = ["--backend", "egl", "--size", "320x240", "--draws", "1500", "--freeze", "0"];
+    let args = [
+        "--backend",
+        "egl",
+        "--size",
+        "320x240",
+        "--draws",
+        "1500",
+        "--freeze",
+        "0",
+    ];
     let out = under_layer(&layer, app("asteroids"), &args, &[]);
     assert_success(&out, name);
     assert_no_gl_error(&out);
@@ -42,12 +60,18 @@ fn remap_keeps_the_centre_view_and_bounds_the_outer_disparity() {
     assert!(centre(&off) == centre(&on), "the centre view changed: {}", at.display());
     let (max_off, n_off) = outer_disparity(&off);
     let (max_on, n_on) = outer_disparity(&on);
-    eprintln!("outer-view block shifts, 90th percentile: off {max_off:.1} px ({n_off} blocks), remapped {max_on:.1} px ({n_on} blocks)");
+    eprintln!(
+        "outer-view block shifts, 90th percentile: off {max_off:.1} px ({n_off} blocks), remapped {max_on:.1} px ({n_on} blocks)"
+    );
     assert!(n_off >= 20 && n_on >= 20, "too few blocks matched to measure");
     // Without the remap the far rocks reach most of the 48 px (the test can fail).
     assert!(max_off > 20.0, "the scene has no large disparity: {max_off}");
     // The block matcher's own error is ~0.5 px (util::parallax): the asymptote plus that.
-    assert!(max_on <= 10.5, "remapped disparity {max_on} px beyond D_B = 10: {}", at.display());
+    assert!(
+        max_on <= 10.5,
+        "remapped disparity {max_on} px beyond D_B = 10: {}",
+        at.display()
+    );
 }
 
 /// Mean |∂x| of a tile's pixels, in 8-bit levels: what a blur lowers.
@@ -56,7 +80,9 @@ fn sharpness(t: &Image) -> f64 {
     for y in 0..t.height {
         for x in 1..t.width {
             let i = ((y * t.width + x) * 3) as usize;
-            sum += (0..3).map(|c| (t.rgb[i + c] as f64 - t.rgb[i + c - 3] as f64).abs()).sum::<f64>();
+            sum += (0..3)
+                .map(|c| (t.rgb[i + c] as f64 - t.rgb[i + c - 3] as f64).abs())
+                .sum::<f64>();
         }
     }
     sum / (t.width * t.height * 3) as f64
@@ -109,8 +135,14 @@ fn synthesis_warps_by_the_remapped_disparity() {
     for mode in ["synth", "synth:pixel"] {
         let (on, at) = quilt("remap-synth", mode, &["--mode", mode, "--depth-remap", "4,4,8,10"]);
         let (max_on, n) = outer_disparity(&on);
-        eprintln!("{mode}: outer-view block shifts, 90th percentile: {max_off:.1} px off, {max_on:.1} px remapped ({n} blocks)");
+        eprintln!(
+            "{mode}: outer-view block shifts, 90th percentile: {max_off:.1} px off, {max_on:.1} px remapped ({n} blocks)"
+        );
         // As in the exact test: the asymptote plus the matcher's error.
-        assert!(n >= 20 && max_on <= 10.5, "{mode}: {max_on} px ({n} blocks): {}", at.display());
+        assert!(
+            n >= 20 && max_on <= 10.5,
+            "{mode}: {max_on} px ({n} blocks): {}",
+            at.display()
+        );
     }
 }
