@@ -284,7 +284,7 @@ pub struct DevicePreset {
     pub quilt: QuiltDefaults,
     /// `comfort_range`: the display's comfortable range (`config::comfort` says how it is
     /// derived; a unit test holds the files to that derivation).
-    pub comfort: Option<crate::camera::comfort::DepthRemap>,
+    pub comfort: Option<super::comfort::DepthRemap>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]

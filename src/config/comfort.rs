@@ -17,7 +17,37 @@
 //! views, 324 DPI, 1536-px screen, 420-px tiles) it gives 43 px, where the default
 //! depthiness puts infinity at 94 px.
 
-use crate::camera::comfort::DepthRemap;
+/// `--depth-remap F,B,DF,DB`: the comfortable range `[-F, B]` and the asymptotes `-D_F`,
+/// `D_B`, as disparity of the outermost view in tile pixels (positive behind the screen).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DepthRemap {
+    pub front: f64,
+    pub back: f64,
+    pub front_limit: f64,
+    pub back_limit: f64,
+}
+
+impl DepthRemap {
+    /// Checks `0 ≤ F < D_F` and `0 ≤ B < D_B`, all finite; `Err` is a one-line reason.
+    pub fn new(front: f64, back: f64, front_limit: f64, back_limit: f64) -> Result<DepthRemap, String> {
+        let all = [front, back, front_limit, back_limit];
+        if !all.iter().all(|x| x.is_finite()) {
+            return Err("every value must be a finite number of pixels".into());
+        }
+        if front < 0.0 || back < 0.0 {
+            return Err("F and B (the comfortable range) must be ≥ 0".into());
+        }
+        if front_limit <= front || back_limit <= back {
+            return Err("each limit must exceed its range: DF > F and DB > B".into());
+        }
+        Ok(DepthRemap {
+            front,
+            back,
+            front_limit,
+            back_limit,
+        })
+    }
+}
 
 /// The comfort effects as configured; `None` is off.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]

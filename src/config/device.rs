@@ -10,10 +10,10 @@ pub struct Device {
     pub calibration: Calibration,
     pub quilt: QuiltDefaults,
     /// The comfortable range: the preset's, else derived from the calibration and quilt.
-    pub comfort: Option<crate::camera::comfort::DepthRemap>,
+    pub comfort: Option<super::comfort::DepthRemap>,
 }
 
-fn derived_comfort(c: &Calibration, q: &QuiltDefaults) -> Option<crate::camera::comfort::DepthRemap> {
+fn derived_comfort(c: &Calibration, q: &QuiltDefaults) -> Option<super::comfort::DepthRemap> {
     super::comfort::device_range(
         c.pitch,
         c.dpi,

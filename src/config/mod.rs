@@ -224,7 +224,7 @@ impl Default for ViewSettings {
 /// The comfort options as given, before the device's defaults are known.
 struct ComfortChoice {
     /// `--depth-remap`: `Some(None)` is an explicit `off`.
-    remap: Option<Option<crate::camera::comfort::DepthRemap>>,
+    remap: Option<Option<comfort::DepthRemap>>,
     /// `--comfort`.
     on: bool,
 }
