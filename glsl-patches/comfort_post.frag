@@ -1,7 +1,9 @@
 #version 330 core
 // Comfort post-pass over one view's tile (src/output/comfort.rs): edge fade and background
 // depth of field, both driven by the outermost view's disparity D (tile px, + behind the
-// screen) of each pixel, as the remap leaves it. depth_remap.glsl is inserted after #version.
+// screen) of each pixel, as the remap leaves it. depth_remap.glsl is inserted after #version,
+// and `#define HOLOINJECT_DOF` with --dof: llvmpipe runs both sides of a branch, so the taps
+// would cost every pixel even with the blur off.
 uniform sampler2D u_color;  // the quilt's colour, copied (rows as the quilt stores them)
 uniform sampler2D u_half;   // the same at half size, linearly filtered: the pre-blurred image
 uniform sampler2D u_depth;  // the quilt's window depth, copied
@@ -62,8 +64,10 @@ void main()
     float r = coc(D);
     // Where nothing was drawn the clear colour is uniform: gathering it is most of a deep
     // scene's cost (llvmpipe) and changes little, so only drawn pixels are blurred.
+#ifdef HOLOINJECT_DOF
     if (r >= 0.5 && texelFetch(u_depth, p, 0).r != u_far_depth)
         c.rgb = blurred(p, r, c.rgb);
+#endif
     if (u_fade > 0.0 && D < 0.0) {
         float x = float(p.x - u_tile.x) + 0.5;
         float border = min(x, float(u_tile.z) - x);

@@ -32,6 +32,8 @@ pub struct ComfortCopies {
     pub fbos: [u32; 3],
     size: (i32, i32),
     formats: (GLenum, GLenum),
+    /// Stored top-down, as the quilt.
+    flip: bool,
 }
 
 impl ComfortCopies {
@@ -45,7 +47,7 @@ impl ComfortCopies {
     }
 
     fn ensure(&mut self, gl: &Gl, size: (i32, i32), formats: (GLenum, GLenum), flip: bool) {
-        if self.size == size && self.formats == formats && self.fbos[0] != 0 {
+        if self.size == size && self.formats == formats && self.flip == flip && self.fbos[0] != 0 {
             return;
         }
         self.delete(gl);
@@ -76,6 +78,7 @@ impl ComfortCopies {
         }
         self.size = size;
         self.formats = formats;
+        self.flip = flip;
     }
 }
 
@@ -98,8 +101,13 @@ pub fn apply(
         return Ok(());
     };
     let depth_format = crate::gl::depth_copy::describe(gl, mv.info, t.fbo)?.format;
-    let frag = comfort::with_glsl(POST_FRAG);
-    let program = passes.program(gl, mv.info, "comfort", &frag)?;
+    let dof = c.dof.is_some();
+    let program = if dof {
+        let frag = comfort::with_glsl(&POST_FRAG.replacen('\n', "\n#define HOLOINJECT_DOF\n", 1));
+        passes.program(gl, mv.info, "comfort-dof", &frag)?
+    } else {
+        passes.program(gl, mv.info, "comfort-fade", &comfort::with_glsl(POST_FRAG))?
+    };
     let layout = t.layout;
     let size = (layout.width() as i32, layout.height() as i32);
     if !mv.info.has_samplers() || !gl.CopyImageSubData.is_loaded() {
@@ -112,7 +120,16 @@ pub fn apply(
         .samplers(1..3);
     super::pass::neutral_state(gl, mv.info);
     copies.ensure(gl, size, (stored_format(t.color_format), depth_format), t.window.flip_y);
-    copy(gl, copies, (t.color, t.fbo), size);
+    // The fade alone changes the border bands only: copy and draw those.
+    let rects: Vec<[i32; 4]> = if dof {
+        vec![[0, 0, size.0, size.1]]
+    } else {
+        let band = (c.edge_fade.unwrap_or(0.0).ceil() as i32).min(layout.tile_w as i32 / 2);
+        (0..layout.views())
+            .flat_map(|i| bands(layout.tile_rect(i), band))
+            .collect()
+    };
+    copy(gl, copies, (t.color, t.fbo), size, &rects, dof);
     // SAFETY: our program and copies, drawing into the quilt; state restored by the guard.
     unsafe {
         gl.BindFramebuffer(DRAW_FRAMEBUFFER, t.resolved_fbo);
@@ -128,14 +145,22 @@ pub fn apply(
     for i in 0..layout.views() {
         let r = layout.tile_rect(i);
         let y = if layout.flipped { size.1 - r[1] - r[3] } else { r[1] };
-        // SAFETY: viewport and our uniform; restored by the guard.
-        unsafe {
-            gl.Viewport(r[0], r[1], r[2], r[3]);
-            gl.Uniform4i(u("u_tile"), r[0], y, r[2], r[3]);
+        // SAFETY: our uniform; restored by the guard.
+        unsafe { gl.Uniform4i(u("u_tile"), r[0], y, r[2], r[3]) };
+        let band = (c.edge_fade.unwrap_or(0.0).ceil() as i32).min(r[2] / 2);
+        let draw = if dof { vec![r] } else { bands(r, band).to_vec() };
+        for v in draw {
+            // SAFETY: the viewport; restored by the guard.
+            unsafe { gl.Viewport(v[0], v[1], v[2], v[3]) };
+            passes.draw(gl);
         }
-        passes.draw(gl);
     }
     Ok(())
+}
+
+/// The left and right bands, `band` pixels wide, of tile rectangle `r` (GL coordinates).
+fn bands(r: [i32; 4], band: i32) -> [[i32; 4]; 2] {
+    [[r[0], r[1], band, r[3]], [r[0] + r[2] - band, r[1], band, r[3]]]
 }
 
 /// The colour copy's format: an sRGB quilt is copied as the plain format of the same size,
@@ -150,32 +175,26 @@ fn stored_format(format: GLenum) -> GLenum {
 }
 
 /// Colour (a raw copy of the resolved quilt texture) and depth (from the drawn quilt,
-/// resolving it), then the half-size colour.
-fn copy(gl: &Gl, copies: &ComfortCopies, (resolved, drawn): (u32, u32), (w, h): (i32, i32)) {
+/// resolving it) of `rects` (GL coordinates of the quilt), then, for the blur, the half-size
+/// colour.
+fn copy(gl: &Gl, copies: &ComfortCopies, (resolved, drawn): (u32, u32), (w, h): (i32, i32), rects: &[[i32; 4]], dof: bool) {
     let [colour, half, depth] = copies.fbos;
     // SAFETY: copies between textures and framebuffers of ours and the quilt's; bindings
     // restored by the caller's guard (the scissor test is off: `neutral_state`).
     unsafe {
-        gl.CopyImageSubData(
-            resolved,
-            TEXTURE_2D,
-            0,
-            0,
-            0,
-            0,
-            copies.textures[0],
-            TEXTURE_2D,
-            0,
-            0,
-            0,
-            0,
-            w,
-            h,
-            1,
-        );
         gl.BindFramebuffer(READ_FRAMEBUFFER, drawn);
         gl.BindFramebuffer(DRAW_FRAMEBUFFER, depth);
-        gl.BlitFramebuffer(0, 0, w, h, 0, 0, w, h, DEPTH_BUFFER_BIT, NEAREST);
+        for r in rects {
+            // Texture rows are stored as the quilt stores them: the same rectangle, flipped.
+            let y = if copies.flip { h - r[1] - r[3] } else { r[1] };
+            let t = copies.textures[0];
+            gl.CopyImageSubData(resolved, TEXTURE_2D, 0, r[0], y, 0, t, TEXTURE_2D, 0, r[0], y, 0, r[2], r[3], 1);
+            let (x1, y1) = (r[0] + r[2], r[1] + r[3]);
+            gl.BlitFramebuffer(r[0], r[1], x1, y1, r[0], r[1], x1, y1, DEPTH_BUFFER_BIT, NEAREST);
+        }
+        if !dof {
+            return;
+        }
         gl.BindFramebuffer(READ_FRAMEBUFFER, colour);
         gl.ReadBuffer(COLOR_ATTACHMENT0);
         gl.BindFramebuffer(DRAW_FRAMEBUFFER, half);
