@@ -177,7 +177,14 @@ fn stored_format(format: GLenum) -> GLenum {
 /// Colour (a raw copy of the resolved quilt texture) and depth (from the drawn quilt,
 /// resolving it) of `rects` (GL coordinates of the quilt), then, for the blur, the half-size
 /// colour.
-fn copy(gl: &Gl, copies: &ComfortCopies, (resolved, drawn): (u32, u32), (w, h): (i32, i32), rects: &[[i32; 4]], dof: bool) {
+fn copy(
+    gl: &Gl,
+    copies: &ComfortCopies,
+    (resolved, drawn): (u32, u32),
+    (w, h): (i32, i32),
+    rects: &[[i32; 4]],
+    dof: bool,
+) {
     let [colour, half, depth] = copies.fbos;
     // SAFETY: copies between textures and framebuffers of ours and the quilt's; bindings
     // restored by the caller's guard (the scissor test is off: `neutral_state`).
@@ -188,7 +195,9 @@ fn copy(gl: &Gl, copies: &ComfortCopies, (resolved, drawn): (u32, u32), (w, h): 
             // Texture rows are stored as the quilt stores them: the same rectangle, flipped.
             let y = if copies.flip { h - r[1] - r[3] } else { r[1] };
             let t = copies.textures[0];
-            gl.CopyImageSubData(resolved, TEXTURE_2D, 0, r[0], y, 0, t, TEXTURE_2D, 0, r[0], y, 0, r[2], r[3], 1);
+            gl.CopyImageSubData(
+                resolved, TEXTURE_2D, 0, r[0], y, 0, t, TEXTURE_2D, 0, r[0], y, 0, r[2], r[3], 1,
+            );
             let (x1, y1) = (r[0] + r[2], r[1] + r[3]);
             gl.BlitFramebuffer(r[0], r[1], x1, y1, r[0], r[1], x1, y1, DEPTH_BUFFER_BIT, NEAREST);
         }
