@@ -5,6 +5,11 @@ uniform sampler2DArray u_depth;
 uniform int u_layer;
 // (a_hi, a_lo, c/b, unused)
 uniform vec4 u_model;
+// The comfort remap in tile pixels (off: z <= 0) and the outermost view's pixels per unit of
+// parallax: the parallax written is R(S·p)/S, so every warp moves pixels by the remapped
+// disparity (depth_remap.glsl is inserted after #version).
+uniform vec4 u_remap;
+uniform float u_px_per_parallax;
 out float o_parallax;
 
 void main()
@@ -12,5 +17,7 @@ void main()
     float d = texelFetch(u_depth, ivec3(ivec2(gl_FragCoord.xy), u_layer), 0).r;
     float z = 2.0 * d - 1.0;
     float q = (z + u_model.x) + u_model.y;
-    o_parallax = 1.0 - u_model.z * q;
+    float p = 1.0 - u_model.z * q;
+    float k = u_px_per_parallax;
+    o_parallax = u_remap.z > 0.0 && k != 0.0 ? holoinject_remap(k * p, u_remap) / k : p;
 }

@@ -13,6 +13,9 @@ uniform vec2 u_px;
 // (a_hi, a_lo, c/b): the parallax of synth_parallax.frag, computed here instead of read from
 // its texture (one fetch fewer per point, and no full-tile pass per source).
 uniform vec3 u_model;
+// The comfort remap in tile pixels (off: z <= 0), applied to the outermost view's disparity
+// (depth_remap.glsl is inserted after #version).
+uniform vec4 u_remap;
 // 1 when window depth is z_ndc (glClipControl GL_ZERO_TO_ONE), else 0.
 uniform int u_zero_to_one;
 flat out vec3 v_color;
@@ -23,6 +26,8 @@ void main()
     float depth = texelFetch(u_depth, ivec3(src, u_layer), 0).r;
     float q = ((2.0 * depth - 1.0) + u_model.x) + u_model.y;
     float p = 1.0 - u_model.z * q;
+    if (u_remap.z > 0.0 && u_px.x != 0.0)
+        p = holoinject_remap(u_px.x * p, u_remap) / u_px.x;
     float x = float(src.x) + 0.5 + u_du * (u_px.x * p + u_px.y);
     vec2 pos = vec2(x, float(src.y) + 0.5) / vec2(u_tile) * 2.0 - 1.0;
     float z = u_zero_to_one == 1 ? depth : 2.0 * depth - 1.0;

@@ -1,15 +1,13 @@
 // holoinject: per-view clip-space camera shift (DESIGN.md section 3).
+// holoinject_comfort = the remap R's (F, B, D_F, D_B) in units of parallax 1 - c/w, zero when
+// off (holoinject_remap is depth_remap.glsl, prepended by the layer).
 // holoinject_view = (k, c, h, mode); mode 0 perspective (infinite far plane or depth
 // unknown), 1 orthographic, 2 unknown projection (w == 1 means orthographic), 3 perspective
 // with reversed-Z, 4 perspective with a finite far plane.
 // Valid GLSL 1.10 .. 4.60 and ES 1.00 .. 3.20: no const initialisers, no f suffixes,
 // precision only under GL_ES (an app's `precision mediump float;` must not reach the shift).
-#ifdef GL_ES
-#define HOLOINJECT_HIGHP highp
-#else
-#define HOLOINJECT_HIGHP
-#endif
 uniform HOLOINJECT_HIGHP vec4 holoinject_view;
+uniform HOLOINJECT_HIGHP vec4 holoinject_comfort;
 HOLOINJECT_HIGHP vec4 holoinject_shift(HOLOINJECT_HIGHP vec4 holoinject_p)
 {
     HOLOINJECT_HIGHP float holoinject_mode = holoinject_view.w;
@@ -24,6 +22,14 @@ HOLOINJECT_HIGHP vec4 holoinject_shift(HOLOINJECT_HIGHP vec4 holoinject_p)
     HOLOINJECT_HIGHP float holoinject_tol = holoinject_mode == 0.0 || holoinject_mode == 2.0 ? 1e-6 : 0.0;
     bool holoinject_at_far = abs(holoinject_p.z - holoinject_far_z) <= holoinject_tol * abs(holoinject_p.w);
     HOLOINJECT_HIGHP float holoinject_c = holoinject_at_far ? 0.0 : holoinject_view.y;
+    if (holoinject_comfort.z > 0.0) {
+        // k·w·R_p(1 - c/w) = w·u·R(s(1 - c/w)): c == 0 (far plane) is parallax 1, and w -> 0
+        // gives R's front asymptote times 0, never 0/0.
+        HOLOINJECT_HIGHP float holoinject_par = holoinject_c == 0.0 ? 1.0 : 1.0 - holoinject_c / holoinject_p.w;
+        holoinject_p.x += holoinject_view.x * holoinject_p.w * holoinject_remap(holoinject_par, holoinject_comfort)
+            + holoinject_view.z * holoinject_p.w;
+        return holoinject_p;
+    }
     holoinject_p.x += holoinject_view.x * (holoinject_p.w - holoinject_c) + holoinject_view.z * holoinject_p.w;
     return holoinject_p;
 }

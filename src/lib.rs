@@ -57,7 +57,8 @@
 //! ## The journey of one swap
 //! `glXSwapBuffers`/`eglSwapBuffers` (or `glFinish` for OSMesa) reach `hook::frame`: the
 //! frame is numbered, a multisampled quilt is resolved (as the window resolves at its
-//! swap), `output::Presenter` draws the quilt into the real framebuffer 0 as
+//! swap), the comfort post-pass (edge fade, depth of field: `output::comfort`) runs over its
+//! tiles, `output::Presenter` draws the quilt into the real framebuffer 0 as
 //! `--output` asks (with `--present device`, into the layer's own window on the Looking
 //! Glass monitor first, and the `--preview` into the program's window: `output::device`;
 //! and dumps the quilt and weave), the presented image is dumped, the real

@@ -5,8 +5,10 @@
 //! frustum so the plane at eye distance `c` stays put", for any projection the app uses,
 //! without decomposing its matrices. The projection estimate is only needed to speak in
 //! physical terms (cone angle, convergence in scene units), to linearise depth for
-//! auto-convergence, and to tell orthographic draws (HUDs) from perspective ones.
+//! auto-convergence, and to tell orthographic draws (HUDs) from perspective ones. The comfort
+//! remap (`comfort`) bends that disparity where the display cannot show it sharply.
 
+pub mod comfort;
 pub mod convergence;
 pub mod estimate;
 pub mod matrix;

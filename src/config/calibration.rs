@@ -282,6 +282,9 @@ pub struct DevicePreset {
     pub serial_prefix: String,
     pub calibration: Calibration,
     pub quilt: QuiltDefaults,
+    /// `comfort_range`: the display's comfortable range (`config::comfort` says how it is
+    /// derived; a unit test holds the files to that derivation).
+    pub comfort: Option<super::comfort::DepthRemap>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -304,6 +307,8 @@ struct PresetFile {
     tile_width: u32,
     tile_height: u32,
     aspect: f64,
+    #[serde(default)]
+    comfort_range: Option<String>,
     calibration: Map<String, Value>,
 }
 
@@ -353,8 +358,14 @@ impl DevicePreset {
             strict: true,
             prefix: "",
         };
+        let comfort = match file.comfort_range.as_deref().map(super::comfort::depth_remap) {
+            Some(Ok(r)) => r,
+            Some(Err(e)) => return Err(format!("{source}: comfort_range {e}")),
+            None => None,
+        };
         Ok(DevicePreset {
             name,
+            comfort,
             model: file.model,
             serial_prefix: file.serial_prefix,
             calibration: fields.calibration()?,

@@ -9,6 +9,19 @@ pub struct Device {
     pub name: String,
     pub calibration: Calibration,
     pub quilt: QuiltDefaults,
+    /// The comfortable range: the preset's, else derived from the calibration and quilt.
+    pub comfort: Option<super::comfort::DepthRemap>,
+}
+
+fn derived_comfort(c: &Calibration, q: &QuiltDefaults) -> Option<super::comfort::DepthRemap> {
+    super::comfort::device_range(
+        c.pitch,
+        c.dpi,
+        c.screen_w,
+        c.view_cone,
+        q.columns * q.rows,
+        q.tile_width,
+    )
 }
 
 fn quilt_for_serial(serial: Option<&str>) -> Option<QuiltDefaults> {
@@ -38,6 +51,7 @@ pub fn load(spec: &str) -> Result<Device, String> {
         let quilt = quilt_for_serial(calibration.serial.as_deref()).unwrap_or_else(|| fallback_quilt(&calibration));
         return Ok(Device {
             name: spec.to_string(),
+            comfort: derived_comfort(&calibration, &quilt),
             calibration,
             quilt,
         });
@@ -45,6 +59,7 @@ pub fn load(spec: &str) -> Result<Device, String> {
     let p = DevicePreset::get(spec)?;
     Ok(Device {
         name: p.name.to_string(),
+        comfort: p.comfort.or_else(|| derived_comfort(&p.calibration, &p.quilt)),
         calibration: p.calibration,
         quilt: p.quilt,
     })
@@ -52,12 +67,25 @@ pub fn load(spec: &str) -> Result<Device, String> {
 
 #[cfg(test)]
 mod tests {
+    /// Every preset's `comfort_range` is the derivation of `config::comfort` on its own
+    /// calibration and quilt (so a changed calibration cannot leave a stale range).
+    #[test]
+    fn preset_comfort_ranges_follow_the_derivation() {
+        for name in super::preset_names() {
+            let p = super::DevicePreset::get(name).unwrap();
+            let want = super::derived_comfort(&p.calibration, &p.quilt);
+            assert!(p.comfort.is_some(), "{name}: no comfort_range");
+            assert_eq!(p.comfort, want, "{name}");
+        }
+    }
+
     #[test]
     fn presets_and_paths() {
         let d = super::load("portrait").unwrap();
         assert_eq!((d.quilt.columns, d.quilt.rows), (8, 6));
         let e = super::load("nonexistent-panel").unwrap_err();
         assert!(e.contains("unknown device") && e.contains("portrait"), "{e}");
+        assert_eq!(d.comfort, Some(super::super::comfort::DEFAULT_RANGE));
         let e = super::load("/no/such/visual.json").unwrap_err();
         assert!(e.starts_with("/no/such/visual.json:"), "{e}");
     }

@@ -11,7 +11,7 @@
 //! `save-preset` writes and what a preset reads back are one syntax.
 //!
 //! A key is one entry of [`LIVE_KEYS`]: the option it drives and what a hotkey does to it.
-//! The comfort effects plug in the same way (`live("dof", Kind::Switch("on"))`).
+//! The comfort effects are keys like the others (`live("dof", Kind::Switch("on"))`).
 
 use super::options;
 use std::collections::BTreeMap;
@@ -48,6 +48,11 @@ pub static LIVE_KEYS: &[LiveKey] = &[
     live("convergence", Kind::Scale(1.1)),
     live("focus", Kind::StepOfDepthiness(0.1)),
     live("output", Kind::Cycle(&["quilt", "native", "sbs", "anaglyph", "mono"])),
+    // The comfort effects. A remap switched on without one given uses 20 px of comfortable
+    // disparity each side and asymptotes at 60 (outermost view, tile pixels).
+    live("depth-remap", Kind::Switch("20,20,60,60")),
+    live("dof", Kind::Switch("on")),
+    live("edge-fade", Kind::Switch("32")),
 ];
 
 pub fn key(name: &str) -> Option<&'static LiveKey> {

@@ -4,6 +4,7 @@
 
 pub mod calibration;
 pub mod cli;
+pub mod comfort;
 pub mod device;
 pub mod live;
 pub mod options;
@@ -194,6 +195,8 @@ pub struct ViewSettings {
     pub measure_error: Option<FrameSet>,
     /// `--mode auto`: the frame time to meet (ms).
     pub frame_budget_ms: f64,
+    /// The comfort effects (read every frame, so they may change while the app runs).
+    pub comfort: comfort::ComfortSettings,
 }
 
 /// How synthesised views are warped (README "Choosing a mode").
@@ -265,6 +268,16 @@ impl ViewSettings {
             "synth-threshold" => self.synth_threshold = parse::synth_threshold(value).unwrap_or(1.0),
             "synth-warp" => self.synth_warp = parse::synth_warp(value).unwrap_or(SynthWarp::Rows),
             "measure-error" => self.measure_error = parse::frames(value).ok(),
+            "edge-fade" => self.comfort.edge_fade = comfort::edge_fade(value).unwrap_or(None),
+            "dof" => self.comfort.dof = comfort::dof(value).unwrap_or(None),
+            // At start-up the remap is chosen with the device's range (`ComfortChoice`); a
+            // live change sets it, and the fade and blur measure from it.
+            "depth-remap" => {
+                if let Ok(r) = comfort::depth_remap(value) {
+                    self.comfort.remap = r;
+                    self.comfort.range = r.or(self.device.as_ref().and_then(|d| d.comfort));
+                }
+            }
             _ => {}
         }
     }
@@ -294,6 +307,36 @@ impl Default for ViewSettings {
             synth_warp: SynthWarp::Rows,
             measure_error: None,
             frame_budget_ms: DEFAULT_FRAME_BUDGET_MS,
+            comfort: comfort::ComfortSettings::default(),
+        }
+    }
+}
+
+/// The comfort options as given, before the device's defaults are known.
+struct ComfortChoice {
+    /// `--depth-remap`: `Some(None)` is an explicit `off`.
+    remap: Option<Option<comfort::DepthRemap>>,
+    /// `--comfort`.
+    on: bool,
+}
+
+impl Default for ComfortChoice {
+    fn default() -> Self {
+        ComfortChoice { remap: None, on: true }
+    }
+}
+
+impl ComfortChoice {
+    /// An explicit `--depth-remap` wins; else the device's comfortable range turns the remap
+    /// on; the fade and depth of field measure from the remap's range, else the device's.
+    /// `--comfort off` turns all three off.
+    fn resolve(self, view: &mut ViewSettings) {
+        let device = view.device.as_ref().and_then(|d| d.comfort);
+        let c = &mut view.comfort;
+        c.remap = self.remap.unwrap_or(device);
+        c.range = c.remap.or(device);
+        if !self.on {
+            *c = comfort::ComfortSettings::default();
         }
     }
 }
@@ -350,6 +393,7 @@ impl Settings {
     ) -> Settings {
         let mut s = Settings::default();
         let (mut quilt, mut tile, mut output, mut budget, mut present) = (None, None, None, None, None);
+        let mut comfort = ComfortChoice::default();
         // The preset itself was chosen (and any problem with it reported) by the caller.
         for opt in options::OPTIONS
             .iter()
@@ -384,6 +428,8 @@ impl Settings {
                 "overlay" => s.overlay = parse::switch(&value).unwrap_or(false),
                 "hotkeys" => s.hotkeys = parse::hotkeys(&value).unwrap_or_default(),
                 "frame-budget" => budget = parse::frame_budget(&value).ok().map(|b| (b, var)),
+                "depth-remap" => comfort.remap = comfort::depth_remap(&value).ok(),
+                "comfort" => comfort.on = comfort::comfort(&value).unwrap_or(true),
                 _ => s.view.set(opt.long, &value),
             }
         }
@@ -393,6 +439,7 @@ impl Settings {
         }
         s.view.resolve(quilt, tile, output, present);
         s.view.apply_budget(budget, report);
+        comfort.resolve(&mut s.view);
         s
     }
 
@@ -495,6 +542,61 @@ mod tests {
         let mut errors = vec![];
         let s = Settings::from_sources(|_| None, Some(&p), &mut |e| errors.push(e));
         assert!(s.view.reuse && errors.is_empty(), "{errors:?}");
+    }
+
+    #[test]
+    fn comfort_defaults_come_from_the_device_and_comfort_off_wins() {
+        let (s, errors) = settings_of(&[("HOLOINJECT_DEVICE", "portrait")]);
+        assert!(errors.is_empty(), "{errors:?}");
+        assert_eq!(s.view.comfort.remap, Some(comfort::DEFAULT_RANGE));
+        let (s, _) = settings_of(&[("HOLOINJECT_DEVICE", "portrait"), ("HOLOINJECT_DEPTH_REMAP", "off")]);
+        assert_eq!(
+            (s.view.comfort.remap, s.view.comfort.range),
+            (None, Some(comfort::DEFAULT_RANGE))
+        );
+        let (s, _) = settings_of(&[("HOLOINJECT_DEPTH_REMAP", "5,6,7,8"), ("HOLOINJECT_DOF", "on")]);
+        assert_eq!(s.view.comfort.range().back, 6.0);
+        assert_eq!(s.view.comfort.dof, Some(1.0));
+        let (s, _) = settings_of(&[
+            ("HOLOINJECT_DEVICE", "go"),
+            ("HOLOINJECT_EDGE_FADE", "30"),
+            ("HOLOINJECT_COMFORT", "off"),
+        ]);
+        assert_eq!(s.view.comfort, comfort::ComfortSettings::default());
+        // Without a device nothing is on.
+        assert_eq!(settings_of(&[]).0.view.comfort, comfort::ComfortSettings::default());
+        let (_, errors) = settings_of(&[("HOLOINJECT_DEPTH_REMAP", "1,2,3")]);
+        assert!(
+            errors[0].starts_with("HOLOINJECT_DEPTH_REMAP=1,2,3: `1,2,3`: expected"),
+            "{errors:?}"
+        );
+    }
+
+    /// The comfort effects changed live (`holoinject ctl set`, the R/F/E hotkeys) go through
+    /// `ViewSettings::set` like the other live keys.
+    #[test]
+    fn comfort_effects_change_live() {
+        let (mut s, _) = settings_of(&[("HOLOINJECT_DEVICE", "portrait")]);
+        for key in ["depth-remap", "dof", "edge-fade"] {
+            assert!(live::key(key).is_some(), "{key} is not live");
+        }
+        s.view.set("dof", "2");
+        s.view.set("edge-fade", "24");
+        assert_eq!((s.view.comfort.dof, s.view.comfort.edge_fade), (Some(2.0), Some(24.0)));
+        s.view.set("depth-remap", "off");
+        assert_eq!(s.view.comfort.remap, None);
+        assert_eq!(
+            s.view.comfort.range,
+            Some(comfort::DEFAULT_RANGE),
+            "the fade measures from the device's"
+        );
+        s.view.set("depth-remap", "5,6,7,8");
+        assert_eq!(s.view.comfort.range().back, 6.0);
+        s.view.set("dof", "off");
+        assert_eq!(s.view.comfort.dof, None);
+        // A bad value changes nothing.
+        s.view.set("depth-remap", "1,2");
+        assert_eq!(s.view.comfort.range().back, 6.0);
     }
 
     #[test]

@@ -188,10 +188,13 @@ fn record(
     analysis: &shader::Analysis,
     (rewritten, pixel_addressing): (bool, Option<&'static str>),
 ) {
-    let view_loc = if rewritten {
-        uniform_location(gl, program, shader::VIEW_UNIFORM)
+    let (view_loc, remap_loc) = if rewritten {
+        (
+            uniform_location(gl, program, shader::VIEW_UNIFORM),
+            uniform_location(gl, program, shader::REMAP_UNIFORM),
+        )
     } else {
-        -1
+        (-1, -1)
     };
     // Only the leftmost matrix of the chain says what the projection is (P, VP or MVP); a
     // model matrix further right would look orthographic. When the leftmost one lives in a
@@ -233,6 +236,7 @@ fn record(
     ));
     let mut info = ProgramInfo {
         view_loc,
+        remap_loc,
         projection_loc,
         projection_ubo,
         builtin_projection: builtin,
@@ -251,7 +255,11 @@ fn record(
 /// Active-uniform indices of our uniforms in a linked program (found by name, which works from
 /// GL 2.0 and ES 2.0 on).
 fn own_uniform_indices(gl: &Gl, program: u32) -> Vec<u32> {
-    let ours = [shader::VIEW_UNIFORM, shader::fragcoord::FRAGCOORD_UNIFORM];
+    let ours = [
+        shader::VIEW_UNIFORM,
+        shader::REMAP_UNIFORM,
+        shader::fragcoord::FRAGCOORD_UNIFORM,
+    ];
     let mut count = 0;
     let mut found = vec![];
     let mut name = [0u8; 64];

@@ -18,6 +18,7 @@
 //! they need as arguments.
 
 pub mod auto;
+pub mod comfort;
 pub mod convergence;
 pub mod downscale;
 pub mod framebuffer;

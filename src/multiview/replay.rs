@@ -75,6 +75,17 @@ fn replay(
         // The scene's depth is about to be drawn over: auto-convergence copies it first.
         super::convergence::take_depth(gl, app, mv);
     }
+    if matches!(shift, Shift::Uniform { .. }) {
+        set_remap_uniform(gl, app, mv);
+    } else if fixed_remap_skipped(&shift, mv) {
+        crate::log::once_for(
+            ("remap-fixed-function", 0),
+            crate::log::Level::Info,
+            format_args!(
+                "--depth-remap: fixed-function draws keep the plain shift (a projection matrix cannot bend disparity)"
+            ),
+        );
+    }
     let fixed = matches!(shift, Shift::Projection(_));
     let app_matrix_mode = fixed.then(|| app.matrix_mode(gl));
     let scissored = app.enabled(gl, SCISSOR_TEST);
@@ -202,6 +213,34 @@ fn set_view_uniform(gl: &Gl, program: u32, mv: &Multiview, loc: i32, i: u32, mod
             gl.Uniform4f(loc, v.k, v.c, v.h, mode.as_uniform());
         }
     }
+}
+
+/// The comfort remap in the current program, in its units of parallax (`camera::comfort`),
+/// set only when it differs from what the program holds.
+fn set_remap_uniform(gl: &Gl, app: &AppState, mv: &Multiview) {
+    let Some(info) = current_info(app).filter(|p| p.remap_loc >= 0) else {
+        return;
+    };
+    let value = super::comfort::remap_uniform(mv);
+    let held = info.remap_set.each_ref().map(|a| a.load(Ordering::Relaxed));
+    if held == value.map(f32::to_bits) {
+        return;
+    }
+    for (a, v) in info.remap_set.iter().zip(value) {
+        a.store(v.to_bits(), Ordering::Relaxed);
+    }
+    // SAFETY: our own uniform in the program current in this context.
+    unsafe {
+        if gl.ProgramUniform4f.is_loaded() {
+            gl.ProgramUniform4f(app.program, info.remap_loc, value[0], value[1], value[2], value[3]);
+        } else {
+            gl.Uniform4f(info.remap_loc, value[0], value[1], value[2], value[3]);
+        }
+    }
+}
+
+fn fixed_remap_skipped(shift: &Shift, mv: &Multiview) -> bool {
+    matches!(shift, Shift::Projection(_)) && mv.settings.comfort.remap.is_some()
 }
 
 /// Puts the centre view into the current program's view uniform, unless it holds it already.

@@ -188,6 +188,7 @@ fn try_warp(gl: &Gl, mv: &mut Multiview, kept: &[u32], mark_holes: bool) -> Resu
         model: model.unwrap_or(ParallaxModel::FLAT),
         depthiness: if model.is_some() { rig.depthiness } else { 0.0 },
         focus: rig.focus,
+        remap: super::comfort::remap_pixels(mv),
         threshold: mv.settings.synth_threshold,
         rows: mv.settings.synth_warp == crate::config::SynthWarp::Rows,
         per_pixel: mv.plan.per_pixel,

@@ -6,6 +6,7 @@
 //! steps. [`Presenter`] is its per-context data: our full-screen passes and the
 //! native-resolution weave target.
 
+pub mod comfort;
 pub mod compose;
 pub mod device;
 pub mod device_image;
@@ -45,12 +46,25 @@ pub struct Presenter {
     pub recorder: record::Recorder,
     /// `--overlay`: the live values, drawn over what is presented.
     pub overlay: overlay::Overlay,
+    /// The copies the comfort post-pass reads.
+    pub comfort: comfort::ComfortCopies,
 }
+
+static COMFORT_FAILED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
 impl Presenter {
     /// Draws `mv`'s quilt into the real default framebuffer (`window` pixels) as `output`
     /// asks; all GL state touched is restored.
+    /// The comfort post-pass (edge fade, depth of field) runs on the quilt first, so dumps
+    /// show it too.
     pub fn present(&mut self, gl: &Gl, mv: &Multiview, window: (u32, u32), output: Output) -> Result<(), String> {
+        if let Err(e) = comfort::apply(gl, &mut self.passes, &mut self.comfort, mv) {
+            crate::log::once(
+                &COMFORT_FAILED,
+                crate::log::Level::Error,
+                format_args!("comfort pass (--edge-fade, --dof) skipped: {e}"),
+            );
+        }
         compose::present(gl, self, mv, window, output)
     }
 
@@ -73,7 +87,8 @@ impl Presenter {
     pub fn context_objects(&self) -> crate::multiview::ContextObjects {
         crate::multiview::ContextObjects {
             framebuffers: usize::from(self.native.as_ref().is_some_and(|n| n.fbo != 0))
-                + usize::from(self.overlay.fbo != 0),
+                + usize::from(self.overlay.fbo != 0)
+                + self.comfort.fbos.iter().filter(|&&f| f != 0).count(),
             vertex_arrays: usize::from(self.passes.vao != 0),
         }
     }
@@ -86,6 +101,7 @@ impl Presenter {
         o.textures.extend(self.staging.as_ref().map(|s| s.color));
         o.textures.extend(self.device_staging.as_ref().map(|s| s.color));
         o.textures.push(self.overlay.texture);
+        o.textures.extend(self.comfort.textures);
         o.programs.extend(self.passes.programs());
         o.buffers.extend(self.recorder.buffers());
         o.without_zeros()

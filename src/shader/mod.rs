@@ -53,8 +53,16 @@ pub use rewrite::rewrite;
 /// The uniform the rewritten shader reads: `(k, c, h, mode)`, see [`ViewMode`].
 pub const VIEW_UNIFORM: &str = "holoinject_view";
 
-/// The GLSL injected into rewritten shaders: the uniform and `vec4 holoinject_shift(vec4)`.
-pub const VIEW_SHIFT_GLSL: &str = include_str!("../../glsl-patches/view_shift.glsl");
+/// The uniform holding the comfort remap in units of parallax (`camera::comfort`), zero when
+/// off.
+pub const REMAP_UNIFORM: &str = "holoinject_comfort";
+
+/// The GLSL injected into rewritten shaders: the uniforms, the remap and
+/// `vec4 holoinject_shift(vec4)`.
+pub const VIEW_SHIFT_GLSL: &str = concat!(
+    include_str!("../../glsl-patches/depth_remap.glsl"),
+    include_str!("../../glsl-patches/view_shift.glsl")
+);
 
 /// Values of `holoinject_view.w` (passed as exact small floats).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -26,9 +26,15 @@ fn refuse(blanked: &str, analysis: &Analysis) -> Result<(), String> {
     if !analysis.stage.can_feed_rasterizer() {
         return Err("not a position-writing stage".into());
     }
-    if ["holoinject_app_main", "holoinject_shift", "holoinject_view"]
-        .iter()
-        .any(|name| text::has_ident(blanked, name))
+    if [
+        "holoinject_app_main",
+        "holoinject_shift",
+        "holoinject_view",
+        "holoinject_remap",
+        "holoinject_comfort",
+    ]
+    .iter()
+    .any(|name| text::has_ident(blanked, name))
     {
         return Err("already rewritten by holoinject".into());
     }

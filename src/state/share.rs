@@ -6,7 +6,7 @@
 use super::orphans::LayerObjects;
 use super::textures::TextureTargets;
 use std::collections::HashMap;
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU32, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 
 /// Where a `mat4` uniform-block member lives (a projection uploaded through a buffer).
@@ -24,6 +24,11 @@ pub struct UboMember {
 pub struct ProgramInfo {
     /// Location of `holoinject_view`, or -1 when the program was left untouched.
     pub view_loc: i32,
+    /// Location of `holoinject_comfort` (the comfort remap), or -1.
+    pub remap_loc: i32,
+    /// The remap value the program holds, as `f32` bits (all zero: off, GL's initial value),
+    /// so a draw sets it only when it changed.
+    pub remap_set: [AtomicU32; 4],
     /// Location of the leftmost matrix uniform of the gl_Position expression (P, VP or MVP),
     /// when it is a plain uniform whose uploads we see.
     pub projection_loc: Option<i32>,

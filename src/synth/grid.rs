@@ -40,8 +40,9 @@ impl Programs {
     /// The parallax pass every warp uses, and with `grid` the quad grid's own passes (the
     /// row and per-pixel warps do without them: four programs fewer to compile).
     pub fn link(gl: &Gl, info: GlInfo, grid: bool) -> Result<Programs, String> {
+        let parallax_frag = crate::camera::comfort::with_glsl(PARALLAX_FRAG);
         let link = |frag| crate::gl::program::link(gl, info, FULLSCREEN_VERT, frag);
-        let parallax = link(PARALLAX_FRAG).map_err(|e| format!("synthesis parallax pass: {e}"))?;
+        let parallax = link(&parallax_frag).map_err(|e| format!("synthesis parallax pass: {e}"))?;
         if !grid {
             return Ok(Programs {
                 parallax,
@@ -255,6 +256,10 @@ impl Pass<'_> {
             gl.Uniform1i(loc(gl, p.parallax, "u_layer"), j as i32);
             let m = job.model;
             gl.Uniform4f(loc(gl, p.parallax, "u_model"), m.a_hi, m.a_lo, m.scale, 0.0);
+            let r = job.remap;
+            gl.Uniform4f(loc(gl, p.parallax, "u_remap"), r[0], r[1], r[2], r[3]);
+            let k = job.depthiness * job.tile.0 as f64 / 2.0;
+            gl.Uniform1f(loc(gl, p.parallax, "u_px_per_parallax"), k as f32);
         }
         self.fullscreen(p.parallax, res.parallax, j, res.tile);
         self.attach(COLOR_ATTACHMENT0, 0, 0);

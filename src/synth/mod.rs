@@ -64,6 +64,8 @@ pub struct Job<'a> {
     pub model: ParallaxModel,
     pub depthiness: f64,
     pub focus: f64,
+    /// The comfort remap in tile pixels of the outermost view (`camera::comfort`), or off.
+    pub remap: [f32; 4],
     /// Largest parallax range of a grid cell, in pixels of the outermost target view (the
     /// row warp: the largest disparity step between neighbouring pixels on one surface).
     pub threshold: f64,

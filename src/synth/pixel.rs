@@ -45,7 +45,8 @@ impl Programs {
         let link = |v, f| crate::gl::program::link(gl, info, v, f);
         let (pull, push) = super::pull_push::link(gl, info)?;
         Ok(Programs {
-            splat: link(SPLAT_VERT, SPLAT_FRAG).map_err(|e| format!("per-pixel splat pass: {e}"))?,
+            splat: link(&crate::camera::comfort::with_glsl(SPLAT_VERT), SPLAT_FRAG)
+                .map_err(|e| format!("per-pixel splat pass: {e}"))?,
             pull,
             push,
         })
@@ -187,6 +188,8 @@ impl Splat<'_> {
             gl.Uniform2i(loc("u_tile"), job.tile.0, job.tile.1);
             gl.Uniform2f(loc("u_px"), (job.depthiness * px) as f32, (job.focus * px) as f32);
             gl.Uniform3f(loc("u_model"), m.a_hi, m.a_lo, m.scale);
+            let r = job.remap;
+            gl.Uniform4f(loc("u_remap"), r[0], r[1], r[2], r[3]);
             gl.Uniform1i(loc("u_zero_to_one"), grid::zero_to_one(gl) as i32);
             gl.ActiveTexture(TEXTURE0);
             gl.BindTexture(TEXTURE_2D_ARRAY, self.res.color);

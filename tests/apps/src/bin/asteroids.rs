@@ -75,6 +75,8 @@ struct Asteroids {
     vao: u32,
     loc: [i32; 4],
     draws: u32,
+    /// `--deep`: the disc reaches from beside the camera to past the far plane.
+    deep: bool,
 }
 
 impl Asteroids {
@@ -84,15 +86,29 @@ impl Asteroids {
         let loc = ["projection", "view", "model", "colour"].map(|n| shader::uniform(gl, prog, n));
         let verts: Vec<f32> = (0..VARIANTS as u32).flat_map(rock).collect();
         let vao = shader::pos_normal_vao(gl, &verts);
-        Ok(Asteroids { prog, vao, loc, draws })
+        let deep = o.switches.contains("deep");
+        Ok(Asteroids {
+            prog,
+            vao,
+            loc,
+            draws,
+            deep,
+        })
     }
 
-    /// Rock `i` orbits the centre in a thick disc; inner rocks move faster.
-    fn model(i: u32, t: f32) -> Mat4 {
-        let r = 4.0 + 16.0 * hash(i * 4).sqrt();
+    /// Rock `i` orbits the centre in a thick disc; inner rocks move faster. Deep: radii 2 to
+    /// 110 (and sizes growing with them), so rocks pass a few units from the camera and others
+    /// lie beyond the far plane.
+    fn model(i: u32, t: f32, deep: bool) -> Mat4 {
+        let r = if deep {
+            2.0 + 108.0 * hash(i * 4).sqrt()
+        } else {
+            4.0 + 16.0 * hash(i * 4).sqrt()
+        };
         let a = hash(i * 4 + 1) * std::f32::consts::TAU + t * 3.0 / r;
         let y = (hash(i * 4 + 2) - 0.5) * 3.0;
-        let s = 0.08 + 0.25 * hash(i * 4 + 3);
+        // Deep rocks grow with their orbit, so far ones still cover pixels.
+        let s = (0.08 + 0.25 * hash(i * 4 + 3)) * if deep { r / 6.0 } else { 1.0 };
         let m = math::mul(
             &math::translate(r * a.cos(), y, r * a.sin()),
             &math::rotate(t * 2.0 + i as f32, [1.0, 0.7, 0.2]),
@@ -117,7 +133,7 @@ impl Scene for Asteroids {
             gl.UniformMatrix4fv(self.loc[1], 1, gl::FALSE, view.as_ptr());
             gl.BindVertexArray(self.vao);
             for i in 0..self.draws {
-                let m = Self::model(i, t);
+                let m = Self::model(i, t, self.deep);
                 let g = 0.4 + 0.4 * hash(i * 7 + 5);
                 gl.UniformMatrix4fv(self.loc[2], 1, gl::FALSE, m.as_ptr());
                 gl.Uniform3f(self.loc[3], g + 0.15, g, g - 0.1);
@@ -145,7 +161,10 @@ fn main() -> ExitCode {
         about: "GL 3.3 core draw-call overhead benchmark (one glUniform + glDrawArrays per rock)",
         default_convergence: math::distance(EYE, CENTRE),
         extra: &[("draws", "5000", "rocks (draw calls) per frame")],
-        switches: &[],
+        switches: &[(
+            "deep",
+            "a disc from beside the camera to past the far plane (comfort figures)",
+        )],
     };
     holoapps::run::main(
         &info,
