@@ -83,7 +83,8 @@ pub fn run(mods: &[String]) {
 type Grabbed = Vec<(u8, &'static str, fn() -> Action)>;
 
 /// Grabs every key of `KEYS` present in the keyboard map, with `want` and each combination
-/// of the ignored locks; a key another client holds is reported and left out.
+/// of the ignored locks; the keys another client holds (often another program under the
+/// layer on the same display: the first one gets them) are left out and named in one line.
 fn grab(conn: &impl Connection, root: u32, want: u16) -> Result<Grabbed, String> {
     let setup = conn.setup();
     let (min, max) = (setup.min_keycode, setup.max_keycode);
@@ -100,6 +101,7 @@ fn grab(conn: &impl Connection, root: u32, want: u16) -> Result<Grabbed, String>
             .map(|i| min + i as u8)
     };
     let mut grabbed = vec![];
+    let mut taken = vec![];
     for &(sym, name, action) in KEYS {
         let Some(code) = code_of(sym) else {
             crate::log::debug(format_args!("hotkeys: no key for {name} on this keyboard"));
@@ -116,12 +118,21 @@ fn grab(conn: &impl Connection, root: u32, want: u16) -> Result<Grabbed, String>
             )
             .map_err(|e| e.to_string())
             .and_then(|c| c.check().map_err(|e| format!("{e:?}")))
-            .inspect_err(|e| crate::log::warn(format_args!("hotkeys: {name} is taken by another client ({e})")))
+            .inspect_err(|e| crate::log::debug(format_args!("hotkeys: grabbing {name}: {e}")))
             .is_ok()
         });
         if ok {
             grabbed.push((code, name, action));
+        } else {
+            taken.push(name);
         }
+    }
+    if !taken.is_empty() {
+        crate::log::info(format_args!(
+            "hotkeys: {} taken by another client (another program under the layer on this display?): \
+             they do nothing here; holoinject ctl still works",
+            taken.join(", ")
+        ));
     }
     conn.flush().map_err(|e| e.to_string())?;
     Ok(grabbed)
