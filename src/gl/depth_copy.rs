@@ -107,8 +107,9 @@ pub fn is_scene_target(gl: &Gl, info: GlInfo, fbo: u32) -> bool {
     complete && kind(DEPTH_ATTACHMENT) && (0..4).any(|i| kind(COLOR_ATTACHMENT0 + i))
 }
 
-/// A texture of ours with `format` storage, sampled texel by texel.
-fn storage(gl: &Gl, format: GLenum, (w, h): (i32, i32)) -> u32 {
+/// A 2D texture of ours with `format` storage, sampled texel by texel (nearest); left bound on
+/// the active unit, which the caller's guard restores.
+pub fn storage(gl: &Gl, format: GLenum, (w, h): (i32, i32)) -> u32 {
     let mut t = 0;
     // SAFETY: our own texture, bound on the active unit; the caller's guard restores it.
     unsafe {

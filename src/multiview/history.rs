@@ -71,20 +71,6 @@ fn renderbuffer(gl: &Gl, format: GLenum, (w, h): (i32, i32)) -> u32 {
     rb
 }
 
-/// A depth texture (sampled when kept views are reprojected, `synth::reproject`).
-fn depth_texture(gl: &Gl, format: GLenum, (w, h): (i32, i32)) -> u32 {
-    let mut t = 0;
-    // SAFETY: our own texture; the caller's guard restores the binding.
-    unsafe {
-        gl.GenTextures(1, &mut t);
-        gl.BindTexture(TEXTURE_2D, t);
-        gl.TexStorage2D(TEXTURE_2D, 1, format, w, h);
-        gl.TexParameteri(TEXTURE_2D, TEXTURE_MIN_FILTER, NEAREST as i32);
-        gl.TexParameteri(TEXTURE_2D, TEXTURE_MAG_FILTER, NEAREST as i32);
-    }
-    t
-}
-
 /// A framebuffer of ours (`target::framebuffer`) with `color` (a texture when `.1`) and
 /// optionally a depth texture; an error if it is incomplete.
 fn framebuffer(gl: &Gl, flip: bool, color: (u32, bool), depth: Option<(GLenum, u32)>) -> Result<u32, String> {
@@ -118,7 +104,8 @@ impl History {
             fbo: 0,
             color: 0,
             sampled: 0,
-            depth: depth_texture(gl, depth_format, size),
+            // Sampled when kept views are reprojected (`synth::reproject`).
+            depth: crate::gl::depth_copy::storage(gl, depth_format, size),
             quilt_color: quilt.color,
             layout: l,
             depth_format,

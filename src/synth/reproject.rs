@@ -69,19 +69,6 @@ pub struct Reprojector {
     made_for: Option<((i32, i32), GLenum)>,
 }
 
-fn texture(gl: &Gl, format: GLenum, (w, h): (i32, i32)) -> u32 {
-    let mut t = 0;
-    // SAFETY: our own texture; the caller's guard restores the binding.
-    unsafe {
-        gl.GenTextures(1, &mut t);
-        gl.BindTexture(TEXTURE_2D, t);
-        gl.TexStorage2D(TEXTURE_2D, 1, format, w, h);
-        gl.TexParameteri(TEXTURE_2D, TEXTURE_MIN_FILTER, NEAREST as i32);
-        gl.TexParameteri(TEXTURE_2D, TEXTURE_MAG_FILTER, NEAREST as i32);
-    }
-    t
-}
-
 fn depth_point(format: GLenum) -> GLenum {
     match format {
         DEPTH24_STENCIL8 | DEPTH32F_STENCIL8 => DEPTH_STENCIL_ATTACHMENT,
@@ -137,7 +124,7 @@ impl Reprojector {
             return Ok(());
         }
         self.delete_images(gl);
-        self.texture = texture(gl, job.depth_format, job.tile);
+        self.texture = crate::gl::depth_copy::storage(gl, job.depth_format, job.tile);
         // SAFETY: our own framebuffer and vertex array; bindings restored by the guard.
         unsafe {
             if self.vao == 0 {
