@@ -173,42 +173,16 @@ fn offline_weave_refuses_unknown_layouts_and_devices() {
     let png = dir.join("plain.png");
     holoinject::output::png::write_rgb(&png, 4, 2, &[0; 24]).unwrap();
     let out_png = dir.join("o.png");
-    let o = out_png.to_str().unwrap();
-    let r = run(
-        &launcher(),
-        &["quilt", png.to_str().unwrap(), "--device", "portrait", "--out", o],
-        &[],
-    );
+    let weave = |extra: &[&str]| {
+        let mut args = vec!["quilt", png.to_str().unwrap(), "--out", out_png.to_str().unwrap()];
+        args.extend_from_slice(extra);
+        run(&launcher(), &args, &[])
+    };
+    let r = weave(&["--device", "portrait"]);
     assert_one_line_failure(&r, "--quilt CxR", "a quilt without a layout");
-    let r = run(
-        &launcher(),
-        &[
-            "quilt",
-            png.to_str().unwrap(),
-            "--quilt",
-            "4x2",
-            "--device",
-            "nope",
-            "--out",
-            o,
-        ],
-        &[],
-    );
+    let r = weave(&["--quilt", "4x2", "--device", "nope"]);
     assert_one_line_failure(&r, "--device nope", "an unknown device");
-    let r = run(
-        &launcher(),
-        &[
-            "quilt",
-            png.to_str().unwrap(),
-            "--quilt",
-            "4x2",
-            "--device",
-            "go",
-            "--out",
-            o,
-        ],
-        &[],
-    );
+    let r = weave(&["--quilt", "4x2", "--device", "go"]);
     assert_success(&r, "a 4x2 quilt of 1-pixel tiles");
     assert_eq!(read_png(&out_png).width, 1440);
 }
