@@ -23,6 +23,10 @@ pub struct SceneDepth {
     share: (u32, u32),
     /// The framebuffer copies of the target come from, and its depth format.
     described: Option<(u32, SourceFormat)>,
+    /// At the swap: the view the ending frame rendered nearest the centre. By the time the
+    /// swap's copy is taken the plan is the next frame's, which may render other views
+    /// (`--mode auto` changing K).
+    pub ended_view: Option<u32>,
 }
 
 /// Where a copy of the target's depth comes from.
@@ -109,7 +113,9 @@ fn unreadable(target: u32, e: &str) {
 /// not render it (hybrid:K with an even K), whose centre tile or layer holds no depth yet
 /// when the copy is taken.
 fn centre(mv: &Multiview) -> u32 {
-    mv.plan.nearest(mv.camera.rig.centre())
+    mv.scene
+        .ended_view
+        .unwrap_or_else(|| mv.plan.nearest(mv.camera.rig.centre()))
 }
 
 /// The framebuffer holding the target's depth as the centre view saw it.
@@ -150,7 +156,10 @@ fn checked_describe(gl: &Gl, mv: &Multiview, fbo: u32, from: Source) -> Result<S
 
 /// At the swap: the frame's estimate, and the next frame's scene target.
 pub fn update_convergence(gl: &Gl, app: &mut AppState, mv: &mut Multiview) {
-    let Some(layout) = mv.layout() else { return };
+    let Some(layout) = mv.layout() else {
+        mv.scene.ended_view = None;
+        return;
+    };
     // `--mode auto` reads the scene's depth too, for what the scene needs (`auto`); the
     // fast modes follow the scene's framebuffer to warp by its depth.
     if reads_depth(mv) || mv.plan.fast() {
@@ -161,8 +170,10 @@ pub fn update_convergence(gl: &Gl, app: &mut AppState, mv: &mut Multiview) {
             copy_for_convergence(gl, app, mv);
         }
         estimate(gl, mv);
+        mv.scene.ended_view = None;
         choose_target(gl, mv);
     } else {
+        mv.scene.ended_view = None;
         mv.scene.tracker.end_frame();
     }
     mv.update_rig(layout);

@@ -42,6 +42,7 @@ pub fn mode_for(settings: &crate::config::ViewSettings, info: crate::gl::GlInfo)
 /// At the swap: a frame whose scene was drawn but never reached a warp point is warped
 /// now; a measured frame is compared and logged.
 pub fn end_frame(gl: &Gl, mv: &mut Multiview, frame: u64) {
+    mv.scene.ended_view = Some(mv.plan.nearest(mv.camera.rig.centre()));
     if mv.plan.synthesise && !mv.plan.warped && mv.plan.scene_dirty {
         warp(gl, mv);
     }

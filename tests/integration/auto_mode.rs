@@ -74,6 +74,9 @@ fn auto_holds_a_budget_between_synth_and_exact() {
     let budget = (exact + synth) / 2.0;
     let budget_arg = format!("{budget:.1}");
     let (ms, log) = frame_time("bloom", &["auto", "--frame-budget", &budget_arg], "70");
+    // Regression: at a change of K the swap's depth copy came from the next frame's views
+    // (not yet drawn), the deep scene looked flat, and auto stayed at K = 1 for good.
+    assert!(!log.contains("under the synthesis threshold"), "{log}");
     let changes = changes(&log);
     assert!(
         (2..=5).contains(&changes.len()),
