@@ -41,9 +41,7 @@ pub fn start_read(gl: &Gl, info: GlInfo, fbo: u32, rect: [i32; 4], pbo: u32) {
         gl.BindFramebuffer(READ_FRAMEBUFFER, fbo);
         gl.ReadBuffer(COLOR_ATTACHMENT0);
         gl.BindBuffer(PIXEL_PACK_BUFFER, pbo);
-        for &(p, _) in &guard.pack {
-            gl.PixelStorei(p, if p == PACK_ALIGNMENT { 1 } else { 0 });
-        }
+        guard.pack_tightly(gl, 1);
         gl.ReadPixels(
             rect[0],
             rect[1],

@@ -13,7 +13,7 @@ pub(super) struct PixelStateGuard<'a> {
     draw_fbo: i32,
     read_buffer: i32,
     pack_buffer: i32,
-    pub(super) pack: Vec<(GLenum, i32)>,
+    pack: Vec<(GLenum, i32)>,
 }
 
 fn pack_params(info: GlInfo) -> &'static [GLenum] {
@@ -42,6 +42,15 @@ fn get(gl: &Gl, pname: GLenum) -> i32 {
 }
 
 impl<'a> PixelStateGuard<'a> {
+    /// Rows packed with `alignment` and no row length or skips: a read fills exactly
+    /// `w*h` pixels of its destination. The saved values come back on drop.
+    pub(super) fn pack_tightly(&self, gl: &Gl, alignment: i32) {
+        for &(p, _) in &self.pack {
+            // SAFETY: plain pixel-store parameters of the current context.
+            unsafe { gl.PixelStorei(p, if p == super::PACK_ALIGNMENT { alignment } else { 0 }) };
+        }
+    }
+
     pub(super) fn save(gl: &'a Gl, info: GlInfo) -> Self {
         use super::*;
         let fbo = info.has_framebuffers();
@@ -182,9 +191,7 @@ pub fn read_rgba(gl: &Gl, info: GlInfo, source: Source, rect: [i32; 4]) -> Resul
         if info.has_pack_buffer() {
             gl.BindBuffer(PIXEL_PACK_BUFFER, 0);
         }
-        for &(p, _) in &guard.pack {
-            gl.PixelStorei(p, if p == PACK_ALIGNMENT { 1 } else { 0 });
-        }
+        guard.pack_tightly(gl, 1);
         gl.ReadPixels(
             rect[0],
             rect[1],
@@ -269,9 +276,7 @@ pub fn read_depth(gl: &Gl, info: GlInfo, fbo: u32, rect: [i32; 4]) -> Vec<f32> {
         if info.has_pack_buffer() {
             gl.BindBuffer(PIXEL_PACK_BUFFER, 0);
         }
-        for &(p, _) in &guard.pack {
-            gl.PixelStorei(p, if p == PACK_ALIGNMENT { 4 } else { 0 });
-        }
+        guard.pack_tightly(gl, 4);
         gl.ReadPixels(
             rect[0],
             rect[1],
