@@ -168,23 +168,27 @@ fn hybrid_costs_are_predicted_from_the_ends_then_from_measured_ones() {
     assert_eq!(c.predict(5), Some(170.0));
 }
 
+/// 400 frames of a 5-view scene costing `costs` by K against a 100 ms budget, each frame
+/// scaled by `noise` and by `load(frame)`: the K sequence.
+fn five_views(costs: [f64; 5], mut noise: Noise, load: impl Fn(u32) -> f64) -> Vec<u32> {
+    let mut c = Controller::new(5, 100.0, 1.0);
+    c.scene(deep());
+    (0..400u32)
+        .map(|f| {
+            c.frame(Some(costs[(c.k() - 1) as usize] * noise.next() * load(f)));
+            c.k()
+        })
+        .collect()
+}
+
 #[test]
 fn a_k_that_went_over_the_budget_is_not_retried_at_once() {
     // Measured on bloom 5x1 with the row warp (issue 12): K = 3 sits a few per cent over the
     // budget, K = 2 under it, frame times spread ±12 %. The controller swung 2 ↔ 3 every few
     // frames: a noisy run of K = 2's frames scaled K = 3's estimate back under the budget.
-    let n = 5;
-    let bloom = |k: u32| [60.0, 84.0, 104.0, 124.0, 140.0][(k - 1) as usize];
-    let mut c = Controller::new(n, 100.0, 1.0);
-    c.scene(deep());
-    let mut ks = vec![];
-    let mut noise = Noise(11, 0.12);
-    for f in 0..400u32 {
-        // Every 17th frame a spike, as the machine's other work steals a core.
-        let spike = if f % 17 == 0 { 1.3 } else { 1.0 };
-        c.frame(Some(bloom(c.k()) * noise.next() * spike));
-        ks.push(c.k());
-    }
+    // Every 17th frame a spike, as the machine's other work steals a core.
+    let spike = |f: u32| if f % 17 == 0 { 1.3 } else { 1.0 };
+    let ks = five_views([60.0, 84.0, 104.0, 124.0, 140.0], Noise(11, 0.12), spike);
     assert!(changes(&ks[60..]) <= 3, "{:?}", &ks[60..]);
     assert_eq!(*ks.last().unwrap(), 2, "{ks:?}");
 }
@@ -194,17 +198,8 @@ fn runs_of_cheap_frames_do_not_pull_k_back_up_each_time() {
     // The machine's load comes and goes: every 40 frames, 10 frames cost 20 % less, enough
     // to make K = 3 look affordable from K = 2 and to be measured over the budget once the
     // run ends. Without the back-off it went 2 → 3 → 2 in every run (20 changes).
-    let n = 5;
-    let bloom = |k: u32| [60.0, 84.0, 110.0, 124.0, 140.0][(k - 1) as usize];
-    let mut c = Controller::new(n, 100.0, 1.0);
-    c.scene(deep());
-    let mut ks = vec![];
-    let mut noise = Noise(4, 0.03);
-    for f in 0..400u32 {
-        let load = if f % 40 < 10 { 0.8 } else { 1.0 };
-        c.frame(Some(bloom(c.k()) * noise.next() * load));
-        ks.push(c.k());
-    }
+    let load = |f: u32| if f % 40 < 10 { 0.8 } else { 1.0 };
+    let ks = five_views([60.0, 84.0, 110.0, 124.0, 140.0], Noise(4, 0.03), load);
     assert!(changes(&ks[60..]) <= 6, "{:?}", &ks[60..]);
     assert_eq!(*ks.last().unwrap(), 2, "{ks:?}");
 }
