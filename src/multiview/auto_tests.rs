@@ -187,7 +187,7 @@ fn a_k_that_went_over_the_budget_is_not_retried_at_once() {
     // budget, K = 2 under it, frame times spread ±12 %. The controller swung 2 ↔ 3 every few
     // frames: a noisy run of K = 2's frames scaled K = 3's estimate back under the budget.
     // Every 17th frame a spike, as the machine's other work steals a core.
-    let spike = |f: u32| if f % 17 == 0 { 1.3 } else { 1.0 };
+    let spike = |f: u32| if f.is_multiple_of(17) { 1.3 } else { 1.0 };
     let ks = five_views([60.0, 84.0, 104.0, 124.0, 140.0], Noise(11, 0.12), spike);
     assert!(changes(&ks[60..]) <= 3, "{:?}", &ks[60..]);
     assert_eq!(*ks.last().unwrap(), 2, "{ks:?}");
