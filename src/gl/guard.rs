@@ -27,6 +27,11 @@ enum Saved {
     MatrixMode(i32),
     DepthFunc(u32),
     DepthRange([f64; 2]),
+    /// Source and destination factors (RGB, alpha), then the equations (RGB, alpha).
+    Blend([i32; 6]),
+    /// Per face (front, back): function, reference, value mask, fail, depth-fail, pass ops,
+    /// write mask.
+    Stencil([[i32; 7]; 2]),
     Sampler(u32, u32),
     /// (unit, target, name)
     Texture(u32, GLenum, u32),
@@ -139,8 +144,15 @@ impl<'a> StateGuard<'a> {
 
     pub fn depth_range(mut self) -> Self {
         let mut r = [0.0f64; 2];
-        // SAFETY: two doubles into a local array.
-        unsafe { self.gl.GetDoublev(DEPTH_RANGE, r.as_mut_ptr()) };
+        if self.info.es {
+            let mut f = [0.0f32; 2];
+            // SAFETY: two floats into a local array (ES has no glGetDoublev).
+            unsafe { self.gl.GetFloatv(DEPTH_RANGE, f.as_mut_ptr()) };
+            r = f.map(f64::from);
+        } else {
+            // SAFETY: two doubles into a local array.
+            unsafe { self.gl.GetDoublev(DEPTH_RANGE, r.as_mut_ptr()) };
+        }
         self.saved.push(Saved::DepthRange(r));
         self
     }
@@ -148,6 +160,48 @@ impl<'a> StateGuard<'a> {
     /// The depth test's function (a pass writing depth sets `GL_ALWAYS`).
     pub fn depth_func(mut self) -> Self {
         self.saved.push(Saved::DepthFunc(get_i(self.gl, DEPTH_FUNC) as u32));
+        self
+    }
+
+    /// The blend factors and equations (a pass that blends sets its own).
+    pub fn blend_func(mut self) -> Self {
+        let names = [
+            BLEND_SRC_RGB,
+            BLEND_DST_RGB,
+            BLEND_SRC_ALPHA,
+            BLEND_DST_ALPHA,
+            BLEND_EQUATION_RGB,
+            BLEND_EQUATION_ALPHA,
+        ];
+        self.saved.push(Saved::Blend(names.map(|n| get_i(self.gl, n))));
+        self
+    }
+
+    /// The stencil test's functions, operations and write masks, both faces.
+    pub fn stencil(mut self) -> Self {
+        let front = [
+            STENCIL_FUNC,
+            STENCIL_REF,
+            STENCIL_VALUE_MASK,
+            STENCIL_FAIL,
+            STENCIL_PASS_DEPTH_FAIL,
+            STENCIL_PASS_DEPTH_PASS,
+            STENCIL_WRITEMASK,
+        ];
+        let back = [
+            STENCIL_BACK_FUNC,
+            STENCIL_BACK_REF,
+            STENCIL_BACK_VALUE_MASK,
+            STENCIL_BACK_FAIL,
+            STENCIL_BACK_PASS_DEPTH_FAIL,
+            STENCIL_BACK_PASS_DEPTH_PASS,
+            STENCIL_BACK_WRITEMASK,
+        ];
+        let gl = self.gl;
+        self.saved.push(Saved::Stencil([
+            front.map(|n| get_i(gl, n)),
+            back.map(|n| get_i(gl, n)),
+        ]));
         self
     }
 
@@ -232,7 +286,18 @@ impl<'a> StateGuard<'a> {
                 Saved::DepthFunc(f) => gl.DepthFunc(f),
                 Saved::PolygonMode(m) => gl.PolygonMode(FRONT_AND_BACK, m as u32),
                 Saved::MatrixMode(m) => gl.MatrixMode(m as u32),
-                Saved::DepthRange(r) => gl.DepthRange(r[0], r[1]),
+                Saved::DepthRange(r) => set_depth_range(gl, self.info, r),
+                Saved::Stencil(faces) => {
+                    for (face, s) in [FRONT, BACK].into_iter().zip(faces) {
+                        gl.StencilFuncSeparate(face, s[0] as u32, s[1], s[2] as u32);
+                        gl.StencilOpSeparate(face, s[3] as u32, s[4] as u32, s[5] as u32);
+                        gl.StencilMaskSeparate(face, s[6] as u32);
+                    }
+                }
+                Saved::Blend(b) => {
+                    gl.BlendFuncSeparate(b[0] as u32, b[1] as u32, b[2] as u32, b[3] as u32);
+                    gl.BlendEquationSeparate(b[4] as u32, b[5] as u32);
+                }
                 Saved::Sampler(unit, name) => gl.BindSampler(unit, name),
                 Saved::Texture(unit, target, name) => {
                     gl.ActiveTexture(TEXTURE0 + unit);
@@ -252,6 +317,18 @@ impl Drop for StateGuard<'_> {
     fn drop(&mut self) {
         for s in self.saved.iter().rev() {
             self.restore(s);
+        }
+    }
+}
+
+/// `glDepthRange`, or `glDepthRangef` on ES (which has only that one).
+pub fn set_depth_range(gl: &Gl, info: GlInfo, [near, far]: [f64; 2]) {
+    // SAFETY: plain state setters of the current context.
+    unsafe {
+        if info.es {
+            gl.DepthRangef(near as f32, far as f32);
+        } else {
+            gl.DepthRange(near, far);
         }
     }
 }

@@ -44,7 +44,7 @@ type Formats = (i32, GLenum, (GLenum, GLenum));
 const MAX_QUILT_SAMPLES: u64 = 1 << 26;
 
 /// A framebuffer of ours with `attach` done on it, stored as the window is when `flip`.
-pub(super) fn framebuffer(gl: &Gl, flip: bool, attach: impl FnOnce()) -> u32 {
+pub(crate) fn framebuffer(gl: &Gl, flip: bool, attach: impl FnOnce()) -> u32 {
     let mut fbo = 0;
     // SAFETY: our own framebuffer; bindings are restored by the caller's guard.
     unsafe {

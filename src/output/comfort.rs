@@ -1,12 +1,23 @@
-//! The comfort post-pass (README "Comfort"): edge fade and background depth of field, drawn
+//! The comfort post-pass (README "Comfort"): background depth of field and edge fade, drawn
 //! over each view's tile of the finished quilt, before it is composed or dumped.
 //!
 //! Both effects need each pixel's disparity, so they need the quilt's depth: the pass copies
-//! colour and depth (a blit, which also resolves a multisampled quilt's depth), makes a
-//! half-size copy of the colour with a linear blit (the pre-blurred image of Agus et al.'s
-//! depth of field: a 2x2 box, widened further by bilinear taps), and draws each tile back
-//! into the quilt with `glsl-patches/comfort_post.frag`. Every copy is made like the quilt
-//! (rows stored top-down when it is), so the shader addresses all of them alike.
+//! it into a texture (a raw copy of the renderbuffer; a multisampled quilt's is resolved
+//! first). Neither effect touches most pixels, and the pass is built so that the pixels it
+//! leaves alone cost next to nothing (`scripts/comfort-figures.py` measures it):
+//!
+//! - Depth of field (Agus et al.'s downsampled pre-blurred image blended by a variable
+//!   kernel): the 12-tap Poisson gather runs at a quarter of the quilt's size, one texel per
+//!   4x4 quilt texels, into a texture of ours; its result is blended over the quilt's
+//!   background pixels by each pixel's own circle of confusion.
+//! - Edge fade: the app's clear colour blended over the border bands' foreground pixels.
+//!
+//! Both blends are drawn at the window depth of their disparity threshold (B behind, the
+//! screen plane in front) with the quilt's depth test on and depth writes off, so the
+//! rasteriser drops the pixels on the other side before shading; the threshold is
+//! conservative (the remap only compresses: `R(x) > B` needs `x > B`), and each pixel's
+//! weight comes from its exact disparity in the shader. No colour is copied: blending reads
+//! the quilt, the gather samples it from a framebuffer of its own.
 //!
 //! The disparity is the outermost view's, the same for every view, so a pixel fades or blurs
 //! alike in all views and nothing flickers from view to view. The fade goes to the app's
@@ -15,9 +26,11 @@
 //! Settings are read every frame (`ComfortSettings`); nothing is compiled in.
 
 use crate::camera::comfort;
+use crate::camera::projection::DepthRange;
 use crate::gl::guard::StateGuard;
 use crate::gl::*;
 use crate::multiview::Multiview;
+use crate::multiview::target::QuiltTarget;
 use crate::synth::disparity::ParallaxModel;
 
 const POST_FRAG: &str = include_str!("../../glsl-patches/comfort_post.frag");
@@ -25,61 +38,16 @@ const POST_FRAG: &str = include_str!("../../glsl-patches/comfort_post.frag");
 /// Largest blur radius, in tile pixels, at `--dof 1`.
 pub const RADIUS_PER_STRENGTH: f64 = 6.0;
 
-/// The copies the pass reads: colour, half-size colour, depth, each with its framebuffer.
-#[derive(Default)]
-pub struct ComfortCopies {
-    pub textures: [u32; 3],
-    pub fbos: [u32; 3],
-    size: (i32, i32),
-    formats: (GLenum, GLenum),
-    /// Stored top-down, as the quilt.
-    flip: bool,
-}
+pub use super::comfort_images::ComfortCopies;
 
-impl ComfortCopies {
-    pub fn delete(&mut self, gl: &Gl) {
-        // SAFETY: our own objects (zero names are ignored).
-        unsafe {
-            gl.DeleteTextures(3, self.textures.as_ptr());
-            gl.DeleteFramebuffers(3, self.fbos.as_ptr());
-        }
-        *self = ComfortCopies::default();
-    }
-
-    fn ensure(&mut self, gl: &Gl, size: (i32, i32), formats: (GLenum, GLenum), flip: bool) {
-        if self.size == size && self.formats == formats && self.flip == flip && self.fbos[0] != 0 {
-            return;
-        }
-        self.delete(gl);
-        let half = ((size.0 / 2).max(1), (size.1 / 2).max(1));
-        let specs = [
-            (formats.0, size, COLOR_ATTACHMENT0),
-            (formats.0, half, COLOR_ATTACHMENT0),
-            (formats.1, size, DEPTH_ATTACHMENT),
-        ];
-        for (k, (format, (w, h), point)) in specs.into_iter().enumerate() {
-            // SAFETY: our own texture and framebuffer; the caller's guard restores bindings.
-            unsafe {
-                gl.GenTextures(1, &mut self.textures[k]);
-                gl.BindTexture(TEXTURE_2D, self.textures[k]);
-                gl.TexStorage2D(TEXTURE_2D, 1, format, w, h);
-                let filter = if k == 1 { LINEAR } else { NEAREST };
-                gl.TexParameteri(TEXTURE_2D, TEXTURE_MIN_FILTER, filter as i32);
-                gl.TexParameteri(TEXTURE_2D, TEXTURE_MAG_FILTER, filter as i32);
-                gl.TexParameteri(TEXTURE_2D, TEXTURE_WRAP_S, CLAMP_TO_EDGE as i32);
-                gl.TexParameteri(TEXTURE_2D, TEXTURE_WRAP_T, CLAMP_TO_EDGE as i32);
-                gl.GenFramebuffers(1, &mut self.fbos[k]);
-                gl.BindFramebuffer(FRAMEBUFFER, self.fbos[k]);
-                if flip {
-                    gl.FramebufferParameteri(FRAMEBUFFER, crate::multiview::window_format::FRAMEBUFFER_FLIP_Y_MESA, 1);
-                }
-                gl.FramebufferTexture2D(FRAMEBUFFER, point, TEXTURE_2D, self.textures[k], 0);
-            }
-        }
-        self.size = size;
-        self.formats = formats;
-        self.flip = flip;
-    }
+/// The window depth where the outermost view's disparity, before the remap, is `x` tile px
+/// (`s` px per unit of parallax, convergence `c`), and whether disparity grows with depth.
+/// `None` when the disparity does not depend on depth (depthiness 0).
+fn threshold(depth: DepthRange, c: f64, s: f64, x: f64) -> Option<(f64, bool)> {
+    // D = s·(1 − (c/b)·(z + a)), z = 2d − 1 (synth::disparity).
+    let k = c / depth.b;
+    let d = ((1.0 - x / s) / k - depth.a + 1.0) / 2.0;
+    (s != 0.0 && k != 0.0 && d.is_finite()).then_some((d.clamp(0.0, 1.0), s * k < 0.0))
 }
 
 /// Applies the fade and the depth of field to `mv`'s quilt, if either is on; all GL state
@@ -97,142 +65,301 @@ pub fn apply(
     let (Some(t), Some(depth)) = (mv.target.as_ref(), mv.camera.last_depth) else {
         return Ok(());
     };
-    let Some(model) = ParallaxModel::new(depth, mv.camera.rig.convergence) else {
+    let convergence = mv.camera.rig.convergence;
+    let Some(model) = ParallaxModel::new(depth, convergence) else {
         return Ok(());
     };
-    let depth_format = crate::gl::depth_copy::describe(gl, mv.info, t.fbo)?.format;
-    let dof = c.dof.is_some();
-    let program = if dof {
-        let frag = comfort::with_glsl(&POST_FRAG.replacen('\n', "\n#define HOLOINJECT_DOF\n", 1));
-        passes.program(gl, mv.info, "comfort-dof", &frag)?
-    } else {
-        passes.program(gl, mv.info, "comfort-fade", &comfort::with_glsl(POST_FRAG))?
+    let s = crate::multiview::comfort::pixels_per_parallax(mv);
+    let range = c.range();
+    let (Some(behind), Some(front)) = (
+        threshold(depth, convergence, s, range.back),
+        threshold(depth, convergence, s, 0.0),
+    ) else {
+        return Ok(());
     };
-    let layout = t.layout;
-    let size = (layout.width() as i32, layout.height() as i32);
     if !mv.info.has_samplers() || !gl.CopyImageSubData.is_loaded() {
         return Err("the comfort pass needs GL 4.3 or ES 3.2 (glCopyImageSubData)".into());
     }
+    let depth_format = crate::gl::depth_copy::describe(gl, mv.info, t.fbo)?.format;
+    let program = |passes: &mut super::pass::Passes, name, stage: &str| {
+        let frag = comfort::with_glsl(&POST_FRAG.replacen('\n', &format!("\n#define {stage}\n"), 1));
+        passes.program_with(gl, mv.info, name, super::pass::AT_DEPTH_VERT, &frag)
+    };
+    let dof = match c.dof {
+        Some(_) => Some([
+            program(passes, "comfort-half", "COMFORT_HALF")?,
+            program(passes, "comfort-mark", "COMFORT_MARK")?,
+            program(passes, "comfort-dof", "COMFORT_DOF")?,
+        ]),
+        None => None,
+    };
+    let fade = match c.edge_fade {
+        Some(_) => Some(program(passes, "comfort-fade", "COMFORT_FADE")?),
+        None => None,
+    };
+    let layout = t.layout;
+    let size = (layout.width() as i32, layout.height() as i32);
     let _guard = StateGuard::new(gl, mv.info)
         .framebuffers()
         .for_pass()
         .textures(TEXTURE_2D, TEXTURE_BINDING_2D, 1..3)
-        .samplers(1..3);
+        .samplers(1..3)
+        .depth_range()
+        .depth_func()
+        .blend_func()
+        .stencil()
+        .caps(&[POLYGON_OFFSET_FILL]);
     super::pass::neutral_state(gl, mv.info);
-    copies.ensure(gl, size, (stored_format(t.color_format), depth_format), t.window.flip_y);
-    // The fade alone changes the border bands only: copy and draw those.
-    let rects: Vec<[i32; 4]> = if dof {
-        vec![[0, 0, size.0, size.1]]
-    } else {
-        let band = (c.edge_fade.unwrap_or(0.0).ceil() as i32).min(layout.tile_w as i32 / 2);
-        (0..layout.views())
-            .flat_map(|i| bands(layout.tile_rect(i), band))
-            .collect()
-    };
-    copy(gl, copies, (t.color, t.fbo), size, &rects, dof);
-    // SAFETY: our program and copies, drawing into the quilt; state restored by the guard.
+    copies.ensure(gl, t, depth_format)?;
+    copies.copy(gl, t, dof.is_some());
+    let zero_to_one = crate::synth::zero_to_one(gl);
+    let quad_z = |d: f64| if zero_to_one { d } else { 2.0 * d - 1.0 } as f32;
+    // SAFETY: the depth test against our copies, never writing them; restored by the guard.
     unsafe {
-        gl.BindFramebuffer(DRAW_FRAMEBUFFER, t.resolved_fbo);
-        gl.UseProgram(program);
-        for (unit, tex) in copies.textures.iter().enumerate() {
-            gl.ActiveTexture(TEXTURE0 + unit as u32);
-            gl.BindTexture(TEXTURE_2D, *tex);
-            gl.BindSampler(unit as u32, 0);
+        gl.Disable(POLYGON_OFFSET_FILL);
+        gl.Enable(DEPTH_TEST);
+        gl.DepthMask(FALSE);
+    }
+    crate::gl::guard::set_depth_range(gl, mv.info, [0.0, 1.0]);
+    let uniforms = Uniforms::new(gl, mv, model, s);
+    // Drawn pixels: nearer than the far clear.
+    let drawn = (
+        quad_z(f64::from(model.far_depth())),
+        if model.reversed { LESS } else { GREATER },
+    );
+    // Disparity beyond B: window depth past the threshold's; below 0: in front of the screen.
+    let (d, grows) = behind;
+    let behind = (quad_z(d), if grows { LEQUAL } else { GEQUAL });
+    let (d, grows) = front;
+    let front = (quad_z(d), if grows { GEQUAL } else { LEQUAL });
+    let stages = Stages {
+        gl,
+        passes,
+        uniforms: &uniforms,
+        stencil: copies.stencil,
+    };
+    // SAFETY: the depth copy the stages sample, on a unit the guard restores.
+    unsafe {
+        gl.ActiveTexture(TEXTURE2);
+        gl.BindTexture(TEXTURE_2D, copies.depth);
+        gl.BindSampler(2, 0);
+    }
+    if let Some([half_program, mark_program, dof_program]) = dof {
+        // SAFETY: our framebuffer and the quilt's colour on unit 1; restored by the guard.
+        unsafe {
+            gl.BindFramebuffer(DRAW_FRAMEBUFFER, copies.half_fbo);
+            gl.ActiveTexture(TEXTURE1);
+            gl.BindTexture(TEXTURE_2D, t.sampled);
+            gl.BindSampler(1, 0);
+        }
+        uniforms.set(gl, half_program, (0.0, ALWAYS), &["u_color", "u_depth"]);
+        stages.draw(
+            half_program,
+            [0, 0, size.0, size.1],
+            &[[0, 0, (size.0 / 2).max(1), (size.1 / 2).max(1)]],
+        );
+        // SAFETY: the quilt's framebuffer of ours and the half-size image on unit 1.
+        unsafe {
+            gl.BindFramebuffer(DRAW_FRAMEBUFFER, copies.fbo);
+            gl.ActiveTexture(TEXTURE1);
+            gl.BindTexture(TEXTURE_2D, copies.half);
+            gl.BindSampler(1, 0);
+        }
+        stages.mark(mark_program, drawn, &[[0, 0, size.0, size.1]]);
+        stages.blend();
+        uniforms.set(gl, dof_program, behind, &["u_half", "u_depth"]);
+        stages.stencil_test();
+        for i in 0..layout.views() {
+            stages.draw(dof_program, stored_rect(t, i), &[layout.tile_rect(i)]);
         }
     }
-    set_uniforms(gl, program, mv, model, layout.flipped);
-    let u = |n: &str| super::pass::uniform(gl, program, n);
-    for i in 0..layout.views() {
-        let r = layout.tile_rect(i);
-        let y = if layout.flipped { size.1 - r[1] - r[3] } else { r[1] };
-        // SAFETY: our uniform; restored by the guard.
-        unsafe { gl.Uniform4i(u("u_tile"), r[0], y, r[2], r[3]) };
-        let band = (c.edge_fade.unwrap_or(0.0).ceil() as i32).min(r[2] / 2);
-        let draw = if dof { vec![r] } else { bands(r, band).to_vec() };
-        for v in draw {
-            // SAFETY: the viewport; restored by the guard.
-            unsafe { gl.Viewport(v[0], v[1], v[2], v[3]) };
-            passes.draw(gl);
+    if let (Some(fade_program), Some(band)) = (fade, c.edge_fade) {
+        // The quilt's own depth is as good to test against as our copy.
+        // SAFETY: binding the quilt's framebuffer; restored by the guard.
+        unsafe {
+            gl.BindFramebuffer(DRAW_FRAMEBUFFER, t.resolved_fbo);
+            gl.Disable(STENCIL_TEST);
+        }
+        stages.blend();
+        uniforms.set(gl, fade_program, front, &["", "u_depth"]);
+        for i in 0..layout.views() {
+            let r = layout.tile_rect(i);
+            let b = (band.ceil() as i32).min(r[2] / 2);
+            let bands = [[r[0], r[1], b, r[3]], [r[0] + r[2] - b, r[1], b, r[3]]];
+            stages.draw(fade_program, stored_rect(t, i), &bands);
         }
     }
     Ok(())
 }
 
-/// The left and right bands, `band` pixels wide, of tile rectangle `r` (GL coordinates).
-fn bands(r: [i32; 4], band: i32) -> [[i32; 4]; 2] {
-    [[r[0], r[1], band, r[3]], [r[0] + r[2] - band, r[1], band, r[3]]]
+/// What the stages share: the context, the full-screen triangle and the uniforms.
+struct Stages<'a> {
+    gl: &'a Gl,
+    passes: &'a super::pass::Passes,
+    uniforms: &'a Uniforms,
+    stencil: bool,
 }
 
-/// The colour copy's format: an sRGB quilt is copied as the plain format of the same size,
-/// so the pass reads and writes back the stored values (sampling sRGB would decode them, and
-/// the quilt is written with `FRAMEBUFFER_SRGB` off).
-fn stored_format(format: GLenum) -> GLenum {
-    match format {
-        SRGB8_ALPHA8 => RGBA8,
-        SRGB8 => RGB8,
-        f => f,
-    }
-}
-
-/// Colour (a raw copy of the resolved quilt texture) and depth (from the drawn quilt,
-/// resolving it) of `rects` (GL coordinates of the quilt), then, for the blur, the half-size
-/// colour.
-fn copy(
-    gl: &Gl,
-    copies: &ComfortCopies,
-    (resolved, drawn): (u32, u32),
-    (w, h): (i32, i32),
-    rects: &[[i32; 4]],
-    dof: bool,
-) {
-    let [colour, half, depth] = copies.fbos;
-    // SAFETY: copies between textures and framebuffers of ours and the quilt's; bindings
-    // restored by the caller's guard (the scissor test is off: `neutral_state`).
-    unsafe {
-        gl.BindFramebuffer(READ_FRAMEBUFFER, drawn);
-        gl.BindFramebuffer(DRAW_FRAMEBUFFER, depth);
-        for r in rects {
-            // Texture rows are stored as the quilt stores them: the same rectangle, flipped.
-            let y = if copies.flip { h - r[1] - r[3] } else { r[1] };
-            let t = copies.textures[0];
-            gl.CopyImageSubData(
-                resolved, TEXTURE_2D, 0, r[0], y, 0, t, TEXTURE_2D, 0, r[0], y, 0, r[2], r[3], 1,
-            );
-            let (x1, y1) = (r[0] + r[2], r[1] + r[3]);
-            gl.BlitFramebuffer(r[0], r[1], x1, y1, r[0], r[1], x1, y1, DEPTH_BUFFER_BIT, NEAREST);
-        }
-        if !dof {
+impl Stages<'_> {
+    /// Marks the drawn pixels of `rects` in the bound framebuffer's stencil (cleared first),
+    /// with `program` (COMFORT_MARK) at `drawn`; nothing when there is no stencil.
+    fn mark(&self, program: u32, drawn: (f32, GLenum), rects: &[[i32; 4]]) {
+        if !self.stencil {
             return;
         }
-        gl.BindFramebuffer(READ_FRAMEBUFFER, colour);
-        gl.ReadBuffer(COLOR_ATTACHMENT0);
-        gl.BindFramebuffer(DRAW_FRAMEBUFFER, half);
-        let (hw, hh) = ((w / 2).max(1), (h / 2).max(1));
-        gl.BlitFramebuffer(0, 0, w, h, 0, 0, hw, hh, COLOR_BUFFER_BIT, LINEAR);
+        let gl = self.gl;
+        // SAFETY: our framebuffer's stencil; state restored by the caller's guard.
+        unsafe {
+            gl.Disable(BLEND);
+            gl.StencilMask(0xff);
+            gl.ClearBufferiv(STENCIL, 0, &0);
+            gl.Enable(STENCIL_TEST);
+            gl.StencilFunc(ALWAYS, 1, 0xff);
+            gl.StencilOp(KEEP, KEEP, REPLACE);
+            gl.ColorMask(FALSE, FALSE, FALSE, FALSE);
+        }
+        self.uniforms.set(gl, program, drawn, &[]);
+        for &r in rects {
+            self.draw(program, r, &[r]);
+        }
+        // SAFETY: as above.
+        unsafe { gl.ColorMask(TRUE, TRUE, TRUE, TRUE) };
+    }
+
+    /// Only the marked pixels from here on (all of them without a stencil).
+    fn stencil_test(&self) {
+        // SAFETY: state restored by the caller's guard.
+        unsafe {
+            if self.stencil {
+                self.gl.Enable(STENCIL_TEST);
+                self.gl.StencilFunc(EQUAL, 1, 0xff);
+                self.gl.StencilMask(0);
+            } else {
+                self.gl.Disable(STENCIL_TEST);
+            }
+        }
+    }
+
+    /// out = src + (1 − a)·dst: the blending stages write premultiplied colour; alpha kept.
+    fn blend(&self) {
+        let gl = self.gl;
+        // SAFETY: state restored by the caller's guard.
+        unsafe {
+            gl.Enable(BLEND);
+            gl.BlendFuncSeparate(ONE, ONE_MINUS_SRC_ALPHA, ZERO, ONE);
+            gl.BlendEquationSeparate(FUNC_ADD, FUNC_ADD);
+        }
+    }
+
+    /// Draws `program` (bound) over `viewports`, for the tile at stored texels `tile`.
+    fn draw(&self, program: u32, tile: [i32; 4], viewports: &[[i32; 4]]) {
+        let gl = self.gl;
+        // SAFETY: our uniform; restored by the guard.
+        unsafe {
+            gl.Uniform4i(
+                super::pass::uniform(gl, program, "u_tile"),
+                tile[0],
+                tile[1],
+                tile[2],
+                tile[3],
+            )
+        };
+        for v in viewports {
+            // SAFETY: the viewport; restored by the guard.
+            unsafe { gl.Viewport(v[0], v[1], v[2], v[3]) };
+            self.passes.draw(gl);
+        }
     }
 }
 
-fn set_uniforms(gl: &Gl, program: u32, mv: &Multiview, m: ParallaxModel, flipped: bool) {
-    let c = mv.settings.comfort;
-    let u = |n: &str| super::pass::uniform(gl, program, n);
-    let s = crate::multiview::comfort::pixels_per_parallax(mv) as f32;
-    let remap = crate::multiview::comfort::remap_pixels(mv);
-    let range = c.range().uniform();
-    let mut background = [0f32; 4];
-    // SAFETY: a four-float query into a local, then uniforms of our bound program.
-    unsafe {
-        gl.GetFloatv(COLOR_CLEAR_VALUE, background.as_mut_ptr());
-        for (unit, name) in ["u_color", "u_half", "u_depth"].iter().enumerate() {
-            gl.Uniform1i(u(name), unit as i32);
+/// View `i`'s tile in stored texels (rows top-down when the quilt stores them so).
+fn stored_rect(t: &QuiltTarget, i: u32) -> [i32; 4] {
+    let r = t.layout.tile_rect(i);
+    let h = t.layout.height() as i32;
+    let y = if t.layout.flipped { h - r[1] - r[3] } else { r[1] };
+    [r[0], y, r[2], r[3]]
+}
+
+/// The values every stage of the pass reads, computed once a frame.
+struct Uniforms {
+    model: ParallaxModel,
+    s: f32,
+    remap: [f32; 4],
+    range: [f32; 4],
+    fade: f32,
+    radius: f32,
+    background: [f32; 4],
+    flipped: bool,
+}
+
+impl Uniforms {
+    fn new(gl: &Gl, mv: &Multiview, model: ParallaxModel, s: f64) -> Uniforms {
+        let c = mv.settings.comfort;
+        let mut background = [0f32; 4];
+        // SAFETY: a four-float query into a local.
+        unsafe { gl.GetFloatv(COLOR_CLEAR_VALUE, background.as_mut_ptr()) };
+        Uniforms {
+            model,
+            s: s as f32,
+            remap: crate::multiview::comfort::remap_pixels(mv),
+            range: c.range().uniform(),
+            fade: c.edge_fade.unwrap_or(0.0) as f32,
+            radius: (c.dof.unwrap_or(0.0) * RADIUS_PER_STRENGTH) as f32,
+            background,
+            flipped: mv.target.as_ref().is_some_and(|t| t.layout.flipped),
         }
-        gl.Uniform1i(u("u_flipped"), i32::from(flipped));
-        gl.Uniform4f(u("u_model"), m.a_hi, m.a_lo, m.scale, s);
-        gl.Uniform4f(u("u_remap"), remap[0], remap[1], remap[2], remap[3]);
-        gl.Uniform4f(u("u_range"), range[0], range[1], range[2], range[3]);
-        gl.Uniform1f(u("u_fade"), c.edge_fade.unwrap_or(0.0) as f32);
-        gl.Uniform1f(u("u_far_depth"), m.far_depth());
-        gl.Uniform1f(u("u_radius"), (c.dof.unwrap_or(0.0) * RADIUS_PER_STRENGTH) as f32);
-        let b = background;
-        gl.Uniform4f(u("u_background"), b[0], b[1], b[2], b[3]);
+    }
+
+    /// Binds `program` with its uniforms: the quad at NDC depth `z`, tested with `func`,
+    /// and `samplers` on texture units 1, 2... (an empty name skips a unit).
+    fn set(&self, gl: &Gl, program: u32, (z, func): (f32, GLenum), samplers: &[&str]) {
+        let u = |n: &str| super::pass::uniform(gl, program, n);
+        let (m, r, g, b) = (self.model, self.remap, self.range, self.background);
+        // SAFETY: uniforms of our program, bound here; state restored by the caller's guard.
+        unsafe {
+            gl.UseProgram(program);
+            gl.DepthFunc(func);
+            for (k, name) in samplers.iter().enumerate().filter(|(_, n)| !n.is_empty()) {
+                gl.Uniform1i(u(name), k as i32 + 1);
+            }
+            gl.Uniform1f(u("u_quad_z"), z);
+            gl.Uniform1i(u("u_flipped"), i32::from(self.flipped));
+            gl.Uniform4f(u("u_model"), m.a_hi, m.a_lo, m.scale, self.s);
+            gl.Uniform4f(u("u_remap"), r[0], r[1], r[2], r[3]);
+            gl.Uniform4f(u("u_range"), g[0], g[1], g[2], g[3]);
+            gl.Uniform1f(u("u_fade"), self.fade);
+            gl.Uniform1f(u("u_far_depth"), m.far_depth());
+            gl.Uniform1f(u("u_radius"), self.radius);
+            gl.Uniform4f(u("u_background"), b[0], b[1], b[2], b[3]);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The threshold's depth gives back disparity x, and its side is the right one, for the
+    /// usual projection and reversed-Z.
+    #[test]
+    fn threshold_depth_has_the_asked_disparity() {
+        let (near, far, c, s) = (0.1, 100.0, 24.0, 240.0);
+        let usual = DepthRange {
+            a: -(far + near) / (far - near),
+            b: -2.0 * far * near / (far - near),
+        };
+        let reversed = DepthRange {
+            a: -usual.a,
+            b: -usual.b,
+        };
+        for depth in [usual, reversed] {
+            let disparity = |d: f64| s * crate::synth::disparity::parallax_f64(depth, c, d);
+            for x in [-60.0, 0.0, 43.0, 129.0] {
+                let (d, grows) = threshold(depth, c, s, x).unwrap();
+                assert!((disparity(d) - x).abs() < 1e-6, "{x}: {}", disparity(d));
+                assert_eq!(disparity(d + 1e-4) > x, grows, "{x} {depth:?}");
+            }
+        }
+        assert!(threshold(usual, c, 0.0, 10.0).is_none());
     }
 }

@@ -7,6 +7,7 @@
 //! native-resolution weave target.
 
 pub mod comfort;
+mod comfort_images;
 pub mod compose;
 pub mod device;
 pub mod device_image;
@@ -88,7 +89,7 @@ impl Presenter {
         crate::multiview::ContextObjects {
             framebuffers: usize::from(self.native.as_ref().is_some_and(|n| n.fbo != 0))
                 + usize::from(self.overlay.fbo != 0)
-                + self.comfort.fbos.iter().filter(|&&f| f != 0).count(),
+                + self.comfort.framebuffers(),
             vertex_arrays: usize::from(self.passes.vao != 0),
         }
     }
@@ -101,7 +102,8 @@ impl Presenter {
         o.textures.extend(self.staging.as_ref().map(|s| s.color));
         o.textures.extend(self.device_staging.as_ref().map(|s| s.color));
         o.textures.push(self.overlay.texture);
-        o.textures.extend(self.comfort.textures);
+        o.textures.extend(self.comfort.textures());
+        o.renderbuffers.extend(self.comfort.renderbuffers());
         o.programs.extend(self.passes.programs());
         o.buffers.extend(self.recorder.buffers());
         o.without_zeros()

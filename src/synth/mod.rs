@@ -28,6 +28,7 @@ mod resources;
 mod rows;
 
 pub use disparity::ParallaxModel;
+pub use grid::zero_to_one;
 
 use crate::gl::GlInfo;
 use crate::gl::*;
