@@ -14,14 +14,20 @@ depth, as a user turning depthiness up gets it.
    DOF + edge fade (scripts/results/comfort-views.png).
 3. Cost of the fade, and of DOF + fade: ms/frame (the layer's own median frame time, frames
    11..FRAMES) of exact with the remap against the same with them; runs alternate (the order
-   rotates every round), ROUNDS of each, median of the medians.
+   rotates every round), ROUNDS of each, median of the medians. Measured on the asteroids
+   field above (an almost empty scene: the app's own frame is cheap, so the effects' per-pixel
+   cost weighs most) and on glmark2's `terrain` (a real program, hills to the horizon;
+   replayed from an apitrace recording made once with bench-trade.py's recorder, at
+   auto-convergence). --baseline DIR adds the same runs with another build's binaries (the
+   layer before a change), alternating with this one's.
 
     xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" scripts/comfort-figures.py [--rounds 5] [--frames 40]
+        [--scenes asteroids,glmark2-terrain] [--baseline OTHER/target/release] [--costs-only]
 
 Nothing is built: binaries come from --bin (default $CARGO_TARGET_DIR/release, else target/release).
 Needs python3-pil and python3-numpy (Debian).
 """
-import argparse, os, re, statistics, subprocess, sys, tempfile
+import argparse, importlib.util, os, re, statistics, subprocess, sys, tempfile
 import numpy as np
 from PIL import Image
 
@@ -74,16 +80,38 @@ def histogram(args, tmp):
     return "\n".join(lines)
 
 
-def run(args, mode, frames, dump=None):
-    cmd = [os.path.join(args.bin, "holoinject"), "run", "--log", "info", "--exit-after", str(frames)] + RIG
+def bench_trade():
+    """scripts/bench-trade.py as a module: its recorder of real programs."""
+    spec = importlib.util.spec_from_file_location("bench_trade", os.path.join(ROOT, "scripts", "bench-trade.py"))
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def scene_command(args, scene, frames):
+    """(rig arguments, program command) of `scene`."""
+    if scene == "asteroids":
+        return RIG, [os.path.join(args.bin, "asteroids")] + APP_ARGS
+    bt = bench_trade()
+    display = os.environ.get("DISPLAY")
+    if not display:
+        sys.exit("real programs need an X display: run under xvfb-run")
+    trace = bt.record(scene, args.cache, frames, display)
+    rig = [a for a in RIG if a not in ("--convergence", str(C))]
+    return rig, ["glretrace", trace]
+
+
+def run(args, mode, frames, dump=None, scene="asteroids", bin_dir=None):
+    rig, prog = scene_command(args, scene, frames)
+    cmd = [os.path.join(bin_dir or args.bin, "holoinject"), "run", "--log", "info", "--exit-after", str(frames)] + rig
     cmd += MODES[mode]
     if dump:
         cmd += ["--dump", dump, "--dump-frames", str(frames)]
-    cmd += ["--", os.path.join(args.bin, "asteroids")] + APP_ARGS
-    out = subprocess.run(cmd, capture_output=True, text=True, timeout=900)
+    cmd += ["--"] + prog
+    out = subprocess.run(cmd, capture_output=True, text=True, timeout=1800)
     m = FRAME_RE.search(out.stderr)
     if out.returncode != 0 or not m:
-        sys.exit(f"{mode}: failed\n{out.stderr[-2000:]}")
+        sys.exit(f"{scene} {mode}: failed\n{out.stderr[-2000:]}")
     return float(m.group(1))
 
 
@@ -107,20 +135,26 @@ def views_image(args, tmp):
     return path
 
 
-def timing(args):
-    times = {m: [] for m in ("remap", "remap+fade", "remap+dof+fade")}
+def timing(args, scene):
+    builds = [("", args.bin)] + ([("baseline ", args.baseline)] if args.baseline else [])
+    modes = ("remap", "remap+fade", "remap+dof+fade")
+    runs = [(b, m) for b in builds for m in modes]
+    times = {r: [] for r in runs}
     for k in range(args.rounds):
-        order = list(times)[k % 3:] + list(times)[:k % 3]
-        for mode in order:
-            times[mode].append(run(args, mode, args.frames))
-    med = {m: statistics.median(v) for m, v in times.items()}
-    cost = med["remap+dof+fade"] - med["remap"]
-    fade = med["remap+fade"] - med["remap"]
-    lines = ["| asteroids, 8x6 views of 320x240, exact | median ms/frame | per-run medians |", "|---|---|---|"]
-    for m, v in times.items():
-        lines.append(f"| {m} | {med[m]:.1f} | {', '.join(f'{x:.1f}' for x in v)} |")
-    lines.append(f"\nEdge fade: {fade:+.1f} ms/frame = {fade / med['remap'] * 100:+.1f} % of the exact frame time; "
-                 f"DOF + edge fade: {cost:+.1f} ms/frame = {cost / med['remap'] * 100:+.1f} %.")
+        for build, mode in runs[k % len(runs):] + runs[:k % len(runs)]:
+            times[(build, mode)].append(run(args, mode, args.frames, scene=scene, bin_dir=build[1]))
+    med = {r: statistics.median(v) for r, v in times.items()}
+    lines = [f"| {scene}, 8x6 views of 320x240, exact | median ms/frame | per-run medians |", "|---|---|---|"]
+    for (build, mode), v in times.items():
+        lines.append(f"| {build[0]}{mode} | {med[(build, mode)]:.1f} | {', '.join(f'{x:.1f}' for x in v)} |")
+    lines.append("")
+    for build in builds:
+        base = med[(build, "remap")]
+        fade = med[(build, "remap+fade")] - base
+        cost = med[(build, "remap+dof+fade")] - base
+        lines.append(f"{scene}{' (' + build[0].strip() + ')' if build[0] else ''}: edge fade {fade:+.1f} ms/frame = "
+                     f"{fade / base * 100:+.1f} % of the exact frame time; DOF + edge fade: {cost:+.1f} ms/frame = "
+                     f"{cost / base * 100:+.1f} %.")
     return "\n".join(lines)
 
 
@@ -130,16 +164,26 @@ def main():
     p.add_argument("--bin", default=os.path.join(target, "release"))
     p.add_argument("--rounds", type=int, default=5)
     p.add_argument("--frames", type=int, default=40)
+    p.add_argument("--scenes", default="asteroids,glmark2-terrain")
+    p.add_argument("--baseline", help="another build's binaries, timed alternately with --bin's")
+    p.add_argument("--cache", default=os.path.join(os.environ.get("XDG_CACHE_HOME", os.path.expanduser("~/.cache")),
+                                                  "holoinject", "traces"),
+                   help="where apitrace recordings are kept (shared with bench-trade.py)")
+    p.add_argument("--costs-only", action="store_true", help="only the timings; comfort.md is not written")
     args = p.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
-        hist = histogram(args, tmp)
-        print(hist, flush=True)
-        image = views_image(args, tmp)
-        print(f"\n{image}", flush=True)
-        cost = timing(args)
-        print(cost, flush=True)
-    with open(os.path.join(OUT, "comfort.md"), "w") as f:
-        f.write("# Comfort figures (scripts/comfort-figures.py)\n\n" + hist + "\n\n" + cost + "\n")
+        if not args.costs_only:
+            hist = histogram(args, tmp)
+            print(hist, flush=True)
+            image = views_image(args, tmp)
+            print(f"\n{image}", flush=True)
+        costs = []
+        for scene in args.scenes.split(","):
+            costs.append(timing(args, scene))
+            print(costs[-1], flush=True)
+    if not args.costs_only:
+        with open(os.path.join(OUT, "comfort.md"), "w") as f:
+            f.write("# Comfort figures (scripts/comfort-figures.py)\n\n" + hist + "\n\n" + "\n\n".join(costs) + "\n")
 
 
 if __name__ == "__main__":

@@ -58,6 +58,7 @@ impl DepthRemap {
                 back: b,
                 front_limit: df,
                 back_limit: db,
+                tile_w: None,
             }
         } else {
             DepthRemap {
@@ -65,6 +66,7 @@ impl DepthRemap {
                 back: f,
                 front_limit: db,
                 back_limit: df,
+                tile_w: None,
             }
         })
     }

@@ -25,9 +25,38 @@ pub struct DepthRemap {
     pub back: f64,
     pub front_limit: f64,
     pub back_limit: f64,
+    /// The tile width these are pixels of, for a display's range (its own quilt's tiles):
+    /// [`DepthRemap::for_tile`] rescales it to the tiles in use, so that it keeps its depth
+    /// on the display whatever `--tile` says. `None`: pixels of the tiles in use (the user's).
+    pub tile_w: Option<u32>,
 }
 
 impl DepthRemap {
+    /// In pixels of `tile_w`-pixel tiles.
+    pub fn for_tile(self, tile_w: u32) -> DepthRemap {
+        match self.tile_w {
+            Some(w) if w > 0 && tile_w > 0 && w != tile_w => {
+                let k = f64::from(tile_w) / f64::from(w);
+                DepthRemap {
+                    front: self.front * k,
+                    back: self.back * k,
+                    front_limit: self.front_limit * k,
+                    back_limit: self.back_limit * k,
+                    tile_w: Some(tile_w),
+                }
+            }
+            _ => self,
+        }
+    }
+
+    /// The same range, measured in pixels of `tile_w`-pixel tiles.
+    pub fn of_tile(self, tile_w: u32) -> DepthRemap {
+        DepthRemap {
+            tile_w: Some(tile_w),
+            ..self
+        }
+    }
+
     /// Checks `0 ≤ F < D_F` and `0 ≤ B < D_B`, all finite; `Err` is a one-line reason.
     pub fn new(front: f64, back: f64, front_limit: f64, back_limit: f64) -> Result<DepthRemap, String> {
         let all = [front, back, front_limit, back_limit];
@@ -45,6 +74,7 @@ impl DepthRemap {
             back,
             front_limit,
             back_limit,
+            tile_w: None,
         })
     }
 }
@@ -75,12 +105,14 @@ impl ComfortSettings {
     }
 }
 
-/// Without a device: the Portrait's range (the display the default 8x6 quilt is made for).
+/// Without a device: the Portrait's range (the display the default 8x6 quilt is made for),
+/// in pixels of its 420-pixel tiles.
 pub const DEFAULT_RANGE: DepthRemap = DepthRemap {
     front: 43.0,
     back: 43.0,
     front_limit: 129.0,
     back_limit: 129.0,
+    tile_w: Some(420),
 };
 
 /// `--depth-remap F,B,DF,DB|off`.
@@ -166,6 +198,17 @@ mod tests {
     #[test]
     fn portrait_range_is_the_documented_one() {
         let r = device_range(52.0, 324.0, 1536, 40.0, 48, 420).unwrap();
-        assert_eq!(r, DEFAULT_RANGE);
+        assert_eq!(r.of_tile(420), DEFAULT_RANGE);
+    }
+
+    /// A display's range keeps its depth on the display at other tile sizes; the user's is
+    /// already in the tiles in use.
+    #[test]
+    fn a_display_range_follows_the_tile_width() {
+        let r = DEFAULT_RANGE.for_tile(210);
+        assert_eq!((r.front, r.back, r.front_limit, r.back_limit), (21.5, 21.5, 64.5, 64.5));
+        assert_eq!(DEFAULT_RANGE.for_tile(420), DEFAULT_RANGE);
+        let user = DepthRemap::new(4.0, 4.0, 8.0, 10.0).unwrap();
+        assert_eq!(user.for_tile(210), user);
     }
 }

@@ -51,7 +51,7 @@ pub fn load(spec: &str) -> Result<Device, String> {
         let quilt = quilt_for_serial(calibration.serial.as_deref()).unwrap_or_else(|| fallback_quilt(&calibration));
         return Ok(Device {
             name: spec.to_string(),
-            comfort: derived_comfort(&calibration, &quilt),
+            comfort: derived_comfort(&calibration, &quilt).map(|r| r.of_tile(quilt.tile_width)),
             calibration,
             quilt,
         });
@@ -59,7 +59,10 @@ pub fn load(spec: &str) -> Result<Device, String> {
     let p = DevicePreset::get(spec)?;
     Ok(Device {
         name: p.name.to_string(),
-        comfort: p.comfort.or_else(|| derived_comfort(&p.calibration, &p.quilt)),
+        comfort: p
+            .comfort
+            .or_else(|| derived_comfort(&p.calibration, &p.quilt))
+            .map(|r| r.of_tile(p.quilt.tile_width)),
         calibration: p.calibration,
         quilt: p.quilt,
     })

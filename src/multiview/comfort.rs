@@ -6,8 +6,16 @@ use crate::camera::comfort::{DepthRemap, REMAP_OFF};
 
 /// Tile pixels of the outermost view's disparity per unit of parallax `1 - c/w`.
 pub fn pixels_per_parallax(mv: &Multiview) -> f64 {
-    let tile_w = mv.layout().map_or(0, |l| l.tile_w);
-    mv.camera.rig.depthiness * tile_w as f64 / 2.0
+    mv.camera.rig.depthiness * tile_w(mv) as f64 / 2.0
+}
+
+fn tile_w(mv: &Multiview) -> u32 {
+    mv.layout().map_or(0, |l| l.tile_w)
+}
+
+/// The range the fade and the depth of field measure from, in pixels of the tiles in use.
+pub fn range_pixels(mv: &Multiview) -> DepthRemap {
+    mv.settings.comfort.range().for_tile(tile_w(mv))
 }
 
 /// `holoinject_comfort` of the injected shift: the remap in units of parallax, or off.
@@ -15,7 +23,7 @@ pub fn remap_uniform(mv: &Multiview) -> [f32; 4] {
     mv.settings
         .comfort
         .remap
-        .and_then(|r| r.scaled(pixels_per_parallax(mv)))
+        .and_then(|r| r.for_tile(tile_w(mv)).scaled(pixels_per_parallax(mv)))
         .map_or(REMAP_OFF, |r| r.uniform())
 }
 
@@ -24,6 +32,5 @@ pub fn remap_pixels(mv: &Multiview) -> [f32; 4] {
     mv.settings
         .comfort
         .remap
-        .as_ref()
-        .map_or(REMAP_OFF, DepthRemap::uniform)
+        .map_or(REMAP_OFF, |r| r.for_tile(tile_w(mv)).uniform())
 }

@@ -70,7 +70,7 @@ pub fn apply(
         return Ok(());
     };
     let s = crate::multiview::comfort::pixels_per_parallax(mv);
-    let range = c.range();
+    let range = crate::multiview::comfort::range_pixels(mv);
     let (Some(behind), Some(front)) = (
         threshold(depth, convergence, s, range.back),
         threshold(depth, convergence, s, 0.0),
@@ -302,7 +302,7 @@ impl Uniforms {
             model,
             s: s as f32,
             remap: crate::multiview::comfort::remap_pixels(mv),
-            range: c.range().uniform(),
+            range: crate::multiview::comfort::range_pixels(mv).uniform(),
             fade: c.edge_fade.unwrap_or(0.0) as f32,
             radius: (c.dof.unwrap_or(0.0) * RADIUS_PER_STRENGTH) as f32,
             background,

@@ -146,3 +146,32 @@ fn synthesis_warps_by_the_remapped_disparity() {
         );
     }
 }
+
+/// The fade and the blur read the depth the synthesis warps leave in the quilt: they work on
+/// synthesised views as on rendered ones (views 0 and 2 of the 3x1 quilt are synthesised).
+#[test]
+fn fade_and_blur_work_on_synthesised_views() {
+    for mode in ["synth", "synth:pixel"] {
+        let test = format!("comfort-{}", mode.replace(':', "-"));
+        let base = ["--mode", mode, "--depth-remap", "2,2,60,60"];
+        let (plain, _) = quilt(&test, "plain", &base);
+        let (faded, at) = quilt(&test, "faded", &[&base[..], &["--edge-fade", "40"]].concat());
+        let (blurred, at_dof) = quilt(&test, "blurred", &[&base[..], &["--dof", "2"]].concat());
+        for view in [0, 2] {
+            let (a, b) = (tile(&plain, 3, 1, view), tile(&faded, 3, 1, view));
+            let cols = changed_columns(&a, &b);
+            assert!(!cols.is_empty(), "{mode} view {view}: nothing faded ({})", at.display());
+            assert!(
+                cols.iter().all(|&x| !(40..280).contains(&x)),
+                "{mode} view {view}: columns outside the bands changed: {cols:?}"
+            );
+            let (s0, s1) = (sharpness(&a), sharpness(&tile(&blurred, 3, 1, view)));
+            eprintln!("{mode} view {view}: sharpness {s0:.3} without, {s1:.3} with --dof 2");
+            assert!(
+                s1 < 0.8 * s0,
+                "{mode} view {view}: barely blurred ({})",
+                at_dof.display()
+            );
+        }
+    }
+}
