@@ -182,8 +182,10 @@ def main():
             costs.append(timing(args, scene))
             print(costs[-1], flush=True)
     if not args.costs_only:
+        said = f"Timed: {args.bin}" + (f"; baseline: {args.baseline}" if args.baseline else "")
         with open(os.path.join(OUT, "comfort.md"), "w") as f:
-            f.write("# Comfort figures (scripts/comfort-figures.py)\n\n" + hist + "\n\n" + "\n\n".join(costs) + "\n")
+            f.write("# Comfort figures (scripts/comfort-figures.py)\n\n" + hist + "\n\n" + said + ".\n\n"
+                    + "\n\n".join(costs) + "\n")
 
 
 if __name__ == "__main__":

@@ -47,26 +47,7 @@ impl ImageWindow {
                 (x.XCloseDisplay)(dpy);
                 return Err(format!("the X screen is {depth}-bit, not 24-bit TrueColor"));
             }
-            let root = (x.XRootWindow)(dpy, screen);
-            let mut attrs: xlib::XSetWindowAttributes = core::mem::zeroed();
-            attrs.override_redirect = xlib::True;
-            let mask = xlib::CWOverrideRedirect | xlib::CWBackPixel | xlib::CWBorderPixel;
-            let window = (x.XCreateWindow)(
-                dpy,
-                root,
-                rect.x,
-                rect.y,
-                rect.w,
-                rect.h,
-                0,
-                depth,
-                xlib::InputOutput as u32,
-                visual,
-                mask,
-                &mut attrs,
-            );
-            (x.XStoreName)(dpy, window, c"holoinject: Looking Glass".as_ptr());
-            (x.XMapRaised)(dpy, window);
+            let window = super::device_window::panel_window(x, dpy, screen, (visual, depth, None), rect);
             let gc = (x.XCreateGC)(dpy, window, 0, core::ptr::null_mut());
             (x.XSync)(dpy, xlib::False);
             Ok(ImageWindow {

@@ -58,6 +58,49 @@ fn catching_errors<R>(x: &Xlib, dpy: *mut xlib::Display, f: impl FnOnce() -> R) 
     }
 }
 
+/// An override-redirect window of `visual` (depth `depth`, with `colormap` when it is not the
+/// screen's default visual) covering `rect` on screen `screen`, named and mapped on top: the
+/// window manager neither decorates, moves nor resizes it, so its pixels are the panel's.
+///
+/// # Safety
+/// `dpy` is an open display; `visual` (and `colormap`) belong to its screen `screen`.
+pub(super) unsafe fn panel_window(
+    x: &Xlib,
+    dpy: *mut xlib::Display,
+    screen: c_int,
+    (visual, depth, colormap): (*mut xlib::Visual, c_int, Option<xlib::Colormap>),
+    rect: Rect,
+) -> xlib::Window {
+    // SAFETY: the caller's display and visual; the attributes are ours.
+    unsafe {
+        let root = (x.XRootWindow)(dpy, screen);
+        let mut attrs: xlib::XSetWindowAttributes = core::mem::zeroed();
+        attrs.override_redirect = xlib::True;
+        let mut mask = xlib::CWOverrideRedirect | xlib::CWBackPixel | xlib::CWBorderPixel;
+        if let Some(c) = colormap {
+            attrs.colormap = c;
+            mask |= xlib::CWColormap;
+        }
+        let win = (x.XCreateWindow)(
+            dpy,
+            root,
+            rect.x,
+            rect.y,
+            rect.w,
+            rect.h,
+            0,
+            depth,
+            xlib::InputOutput as u32,
+            visual,
+            mask,
+            &mut attrs,
+        );
+        (x.XStoreName)(dpy, win, c"holoinject: Looking Glass".as_ptr());
+        (x.XMapRaised)(dpy, win);
+        win
+    }
+}
+
 impl DeviceWindow {
     /// A window of `visual` (depth `depth`) covering `rect` on screen `screen`, mapped on top.
     ///
@@ -73,33 +116,10 @@ impl DeviceWindow {
         let x = xlib()?;
         let dpy = display as *mut xlib::Display;
         let window = catching_errors(x, dpy, || {
-            // SAFETY: the caller's display and visual; attributes are ours.
+            // SAFETY: the caller's display and visual.
             unsafe {
-                let root = (x.XRootWindow)(dpy, screen);
-                let mut attrs: xlib::XSetWindowAttributes = core::mem::zeroed();
-                attrs.override_redirect = xlib::True;
-                attrs.colormap = (x.XCreateColormap)(dpy, root, visual, xlib::AllocNone);
-                attrs.background_pixel = 0;
-                attrs.border_pixel = 0;
-                let mask = xlib::CWOverrideRedirect | xlib::CWColormap | xlib::CWBackPixel | xlib::CWBorderPixel;
-                let (w, h) = (rect.w, rect.h);
-                let win = (x.XCreateWindow)(
-                    dpy,
-                    root,
-                    rect.x,
-                    rect.y,
-                    w,
-                    h,
-                    0,
-                    depth,
-                    xlib::InputOutput as u32,
-                    visual,
-                    mask,
-                    &mut attrs,
-                );
-                (x.XStoreName)(dpy, win, c"holoinject: Looking Glass".as_ptr());
-                (x.XMapRaised)(dpy, win);
-                win
+                let colormap = (x.XCreateColormap)(dpy, (x.XRootWindow)(dpy, screen), visual, xlib::AllocNone);
+                panel_window(x, dpy, screen, (visual, depth, Some(colormap)), rect)
             }
         })?;
         Ok(DeviceWindow { display, window, rect })
