@@ -21,6 +21,7 @@ uniform vec4 u_range;       // the comfortable range (F, B, D_F, D_B) the effect
 uniform float u_radius;     // largest blur radius in px
 uniform float u_far_depth;  // window depth where nothing was drawn (1, or 0 under reversed-Z)
 uniform bool u_flipped;     // rows stored top-down, as the window's are
+uniform bool u_zero_to_one; // glClipControl(.., GL_ZERO_TO_ONE): window depth is NDC depth
 uniform sampler2D u_color;  // HALF: the quilt's colour (its magnification filter is linear)
 uniform sampler2D u_half;   // DOF: COMFORT_HALF's image, rows as stored
 uniform float u_fade;       // FADE: edge band in px
@@ -35,7 +36,8 @@ const vec2 TAPS[12] = vec2[](
 
 float disparity_of(float d)
 {
-    float q = ((2.0 * d - 1.0) + u_model.x) + u_model.y;
+    float z = u_zero_to_one ? d : 2.0 * d - 1.0;
+    float q = (z + u_model.x) + u_model.y;
     return holoinject_remap(u_model.w * (1.0 - u_model.z * q), u_remap);
 }
 

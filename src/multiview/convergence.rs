@@ -186,10 +186,17 @@ fn estimate(gl: &Gl, mv: &mut Multiview) {
     else {
         return;
     };
-    let depths = match mv.scene.copy.read(gl, mv.info) {
+    let mut depths = match mv.scene.copy.read(gl, mv.info) {
         Ok(d) => d,
         Err(e) => return unreadable(target, &e),
     };
+    if crate::synth::zero_to_one(gl) {
+        // The estimates read window depth as (z_ndc + 1)/2; under `glClipControl(..,
+        // GL_ZERO_TO_ONE)` it is z_ndc itself. The clears (0 and 1) keep their meaning.
+        for d in depths.iter_mut().filter(|d| **d > 0.0 && **d < 1.0) {
+            *d = (*d + 1.0) / 2.0;
+        }
+    }
     let width = mv.scene.copy.copied().1[2].max(1) as usize;
     super::auto::scene_depth(mv, &depths, width, range);
     if mv.settings.convergence != Convergence::Auto {

@@ -40,14 +40,14 @@ pub const RADIUS_PER_STRENGTH: f64 = 6.0;
 
 pub use super::comfort_images::ComfortCopies;
 
-/// The window depth where the outermost view's disparity, before the remap, is `x` tile px
-/// (`s` px per unit of parallax, convergence `c`), and whether disparity grows with depth.
-/// `None` when the disparity does not depend on depth (depthiness 0).
+/// The NDC depth where the outermost view's disparity, before the remap, is `x` tile px (`s`
+/// px per unit of parallax, convergence `c`), and whether disparity grows with depth. `None`
+/// when the disparity does not depend on depth (depthiness 0).
 fn threshold(depth: DepthRange, c: f64, s: f64, x: f64) -> Option<(f64, bool)> {
-    // D = s·(1 − (c/b)·(z + a)), z = 2d − 1 (synth::disparity).
+    // D = s·(1 − (c/b)·(z + a)) (synth::disparity).
     let k = c / depth.b;
-    let d = ((1.0 - x / s) / k - depth.a + 1.0) / 2.0;
-    (s != 0.0 && k != 0.0 && d.is_finite()).then_some((d.clamp(0.0, 1.0), s * k < 0.0))
+    let z = (1.0 - x / s) / k - depth.a;
+    (s != 0.0 && k != 0.0 && z.is_finite()).then_some((z, s * k < 0.0))
 }
 
 /// Applies the fade and the depth of field to `mv`'s quilt, if either is on; all GL state
@@ -112,8 +112,10 @@ pub fn apply(
     super::pass::neutral_state(gl, mv.info);
     copies.ensure(gl, t, depth_format)?;
     copies.copy(gl, t, dof.is_some());
+    // Window depth is NDC depth under `glClipControl(.., GL_ZERO_TO_ONE)`, else (z + 1)/2.
     let zero_to_one = crate::synth::zero_to_one(gl);
-    let quad_z = |d: f64| if zero_to_one { d } else { 2.0 * d - 1.0 } as f32;
+    let near_ndc = if zero_to_one { 0.0 } else { -1.0 };
+    let quad_z = |z: f64| z.clamp(near_ndc, 1.0) as f32;
     // SAFETY: the depth test against our copies, never writing them; restored by the guard.
     unsafe {
         gl.Disable(POLYGON_OFFSET_FILL);
@@ -121,13 +123,11 @@ pub fn apply(
         gl.DepthMask(FALSE);
     }
     crate::gl::guard::set_depth_range(gl, mv.info, [0.0, 1.0]);
-    let uniforms = Uniforms::new(gl, mv, model, s);
+    let uniforms = Uniforms::new(gl, mv, model, s, zero_to_one);
     // Drawn pixels: nearer than the far clear.
-    let drawn = (
-        quad_z(f64::from(model.far_depth())),
-        if model.reversed { LESS } else { GREATER },
-    );
-    // Disparity beyond B: window depth past the threshold's; below 0: in front of the screen.
+    let far = if model.reversed { near_ndc } else { 1.0 };
+    let drawn = (quad_z(far), if model.reversed { LESS } else { GREATER });
+    // Disparity beyond B: depth past the threshold's; below 0: in front of the screen.
     let (d, grows) = behind;
     let behind = (quad_z(d), if grows { LEQUAL } else { GEQUAL });
     let (d, grows) = front;
@@ -290,10 +290,11 @@ struct Uniforms {
     radius: f32,
     background: [f32; 4],
     flipped: bool,
+    zero_to_one: bool,
 }
 
 impl Uniforms {
-    fn new(gl: &Gl, mv: &Multiview, model: ParallaxModel, s: f64) -> Uniforms {
+    fn new(gl: &Gl, mv: &Multiview, model: ParallaxModel, s: f64, zero_to_one: bool) -> Uniforms {
         let c = mv.settings.comfort;
         let mut background = [0f32; 4];
         // SAFETY: a four-float query into a local.
@@ -307,6 +308,7 @@ impl Uniforms {
             radius: (c.dof.unwrap_or(0.0) * RADIUS_PER_STRENGTH) as f32,
             background,
             flipped: mv.target.as_ref().is_some_and(|t| t.layout.flipped),
+            zero_to_one,
         }
     }
 
@@ -324,6 +326,7 @@ impl Uniforms {
             }
             gl.Uniform1f(u("u_quad_z"), z);
             gl.Uniform1i(u("u_flipped"), i32::from(self.flipped));
+            gl.Uniform1i(u("u_zero_to_one"), i32::from(self.zero_to_one));
             gl.Uniform4f(u("u_model"), m.a_hi, m.a_lo, m.scale, self.s);
             gl.Uniform4f(u("u_remap"), r[0], r[1], r[2], r[3]);
             gl.Uniform4f(u("u_range"), g[0], g[1], g[2], g[3]);
@@ -353,11 +356,11 @@ mod tests {
             b: -usual.b,
         };
         for depth in [usual, reversed] {
-            let disparity = |d: f64| s * crate::synth::disparity::parallax_f64(depth, c, d);
+            let disparity = |z: f64| s * (1.0 - c / depth.w_of_ndc(z));
             for x in [-60.0, 0.0, 43.0, 129.0] {
-                let (d, grows) = threshold(depth, c, s, x).unwrap();
-                assert!((disparity(d) - x).abs() < 1e-6, "{x}: {}", disparity(d));
-                assert_eq!(disparity(d + 1e-4) > x, grows, "{x} {depth:?}");
+                let (z, grows) = threshold(depth, c, s, x).unwrap();
+                assert!((disparity(z) - x).abs() < 1e-6, "{x}: {}", disparity(z));
+                assert_eq!(disparity(z + 1e-4) > x, grows, "{x} {depth:?}");
             }
         }
         assert!(threshold(usual, c, 0.0, 10.0).is_none());

@@ -175,3 +175,89 @@ fn fade_and_blur_work_on_synthesised_views() {
         }
     }
 }
+
+/// `cubes --depth standard|reversed` (reversed-Z: `glClipControl(.., GL_ZERO_TO_ONE)`,
+/// `GL_GREATER`, depth cleared to 0) at auto-convergence, with the remap, blur and fade on.
+fn cubes_quilt(depth: &str) -> (Image, std::path::PathBuf) {
+    let dir = temp_dir(&format!("comfort-cubes-{depth}"));
+    let mut layer = vec![
+        "--quilt",
+        "3x1",
+        "--tile",
+        "320x240",
+        "--output",
+        "quilt",
+        "--depthiness",
+        "0.5",
+    ];
+    layer.extend(["--depth-remap", "2,2,40,40", "--dof", "2", "--edge-fade", "60"]);
+    layer.extend(dump_and_exit_at(&dir, "4"));
+    let args = [
+        "--backend",
+        "osmesa",
+        "--size",
+        "320x240",
+        "--frames",
+        "4",
+        "--depth",
+        depth,
+    ];
+    let out = under_layer(&layer, app("cubes"), &args, &[]);
+    assert_success(&out, depth);
+    assert_no_gl_error(&out);
+    let at = dir.join("f000004_qs3x1a1.3333.png");
+    (read_png(&at), at)
+}
+
+/// Reversed-Z draws the same image, so the effects must do the same to it: the window depth
+/// they read is NDC depth under `GL_ZERO_TO_ONE`, not (z + 1)/2 (read as the latter, every
+/// pixel looked far behind the range and the whole quilt was blurred).
+#[test]
+fn comfort_effects_are_the_same_under_reversed_z() {
+    let (standard, _) = cubes_quilt("standard");
+    let (reversed, at) = cubes_quilt("reversed");
+    let sharp = cubes_centre_sharpness_plain();
+    let far_off = standard
+        .rgb
+        .iter()
+        .zip(&reversed.rgb)
+        .filter(|(a, b)| a.abs_diff(**b) > 8)
+        .count();
+    let share = far_off as f64 / standard.rgb.len() as f64;
+    eprintln!(
+        "reversed-Z against standard with comfort on: {:.3} % of channels differ by more than 8 levels",
+        share * 100.0
+    );
+    assert!(
+        share < 0.01,
+        "reversed-Z differs from standard in {:.2} %: {}",
+        share * 100.0,
+        at.display()
+    );
+    // The foreground stays sharp: the centre view keeps most of the unblurred detail.
+    let s = sharpness(&tile(&reversed, 3, 1, 1));
+    assert!(
+        s > 0.8 * sharp,
+        "reversed-Z blurred the foreground: {s} against {sharp} unblurred"
+    );
+}
+
+/// The centre view's sharpness of `cubes` without the effects.
+fn cubes_centre_sharpness_plain() -> f64 {
+    let dir = temp_dir("comfort-cubes-plain");
+    let mut layer = vec![
+        "--quilt",
+        "3x1",
+        "--tile",
+        "320x240",
+        "--output",
+        "quilt",
+        "--depthiness",
+        "0.5",
+    ];
+    layer.extend(dump_and_exit_at(&dir, "4"));
+    let args = ["--backend", "osmesa", "--size", "320x240", "--frames", "4"];
+    let out = under_layer(&layer, app("cubes"), &args, &[]);
+    assert_success(&out, "plain");
+    sharpness(&tile(&read_png(&dir.join("f000004_qs3x1a1.3333.png")), 3, 1, 1))
+}
