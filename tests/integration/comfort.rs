@@ -20,10 +20,8 @@ const RIG: [&str; 10] = [
 ];
 
 fn quilt(test: &str, name: &str, comfort: &[&str]) -> (Image, std::path::PathBuf) {
-    let dir = temp_dir(&format!("{test}-{name}"));
     let mut layer: Vec<&str> = RIG.to_vec();
     layer.extend_from_slice(comfort);
-    layer.extend(dump_and_exit_at(&dir, "2"));
     let args = [
         "--backend",
         "egl",
@@ -34,10 +32,18 @@ fn quilt(test: &str, name: &str, comfort: &[&str]) -> (Image, std::path::PathBuf
         "--freeze",
         "0",
     ];
-    let out = under_layer(&layer, app("asteroids"), &args, &[]);
-    assert_success(&out, name);
+    dumped(&format!("{test}-{name}"), &layer, "asteroids", &args, "2")
+}
+
+/// The 3x1 quilt `program` (a sample app) shows at `frame` under `layer`.
+fn dumped(dir: &str, layer: &[&str], program: &str, args: &[&str], frame: &str) -> (Image, std::path::PathBuf) {
+    let dir = temp_dir(dir);
+    let mut layer: Vec<&str> = layer.to_vec();
+    layer.extend(dump_and_exit_at(&dir, frame));
+    let out = under_layer(&layer, app(program), args, &[]);
+    assert_success(&out, program);
     assert_no_gl_error(&out);
-    let at = dir.join("f000002_qs3x1a1.3333.png");
+    let at = dir.join(format!("f{frame:0>6}_qs3x1a1.3333.png"));
     (read_png(&at), at)
 }
 
@@ -177,21 +183,11 @@ fn fade_and_blur_work_on_synthesised_views() {
 }
 
 /// `cubes --depth standard|reversed` (reversed-Z: `glClipControl(.., GL_ZERO_TO_ONE)`,
-/// `GL_GREATER`, depth cleared to 0) at auto-convergence, with the remap, blur and fade on.
-fn cubes_quilt(depth: &str) -> (Image, std::path::PathBuf) {
-    let dir = temp_dir(&format!("comfort-cubes-{depth}"));
-    let mut layer = vec![
-        "--quilt",
-        "3x1",
-        "--tile",
-        "320x240",
-        "--output",
-        "quilt",
-        "--depthiness",
-        "0.5",
-    ];
-    layer.extend(["--depth-remap", "2,2,40,40", "--dof", "2", "--edge-fade", "60"]);
-    layer.extend(dump_and_exit_at(&dir, "4"));
+/// `GL_GREATER`, depth cleared to 0) at auto-convergence, with `comfort` (remap, blur, fade).
+fn cubes_quilt(depth: &str, comfort: &[&str]) -> (Image, std::path::PathBuf) {
+    let mut layer = vec!["--quilt", "3x1", "--tile", "320x240", "--output", "quilt"];
+    layer.extend(["--depthiness", "0.5"]);
+    layer.extend_from_slice(comfort);
     let args = [
         "--backend",
         "osmesa",
@@ -202,11 +198,13 @@ fn cubes_quilt(depth: &str) -> (Image, std::path::PathBuf) {
         "--depth",
         depth,
     ];
-    let out = under_layer(&layer, app("cubes"), &args, &[]);
-    assert_success(&out, depth);
-    assert_no_gl_error(&out);
-    let at = dir.join("f000004_qs3x1a1.3333.png");
-    (read_png(&at), at)
+    dumped(
+        &format!("comfort-cubes-{depth}-{}", comfort.len()),
+        &layer,
+        "cubes",
+        &args,
+        "4",
+    )
 }
 
 /// Reversed-Z draws the same image, so the effects must do the same to it: the window depth
@@ -214,9 +212,10 @@ fn cubes_quilt(depth: &str) -> (Image, std::path::PathBuf) {
 /// pixel looked far behind the range and the whole quilt was blurred).
 #[test]
 fn comfort_effects_are_the_same_under_reversed_z() {
-    let (standard, _) = cubes_quilt("standard");
-    let (reversed, at) = cubes_quilt("reversed");
-    let sharp = cubes_centre_sharpness_plain();
+    let on = ["--depth-remap", "2,2,40,40", "--dof", "2", "--edge-fade", "60"];
+    let (standard, _) = cubes_quilt("standard", &on);
+    let (reversed, at) = cubes_quilt("reversed", &on);
+    let (plain, _) = cubes_quilt("standard", &[]);
     let far_off = standard
         .rgb
         .iter()
@@ -235,29 +234,9 @@ fn comfort_effects_are_the_same_under_reversed_z() {
         at.display()
     );
     // The foreground stays sharp: the centre view keeps most of the unblurred detail.
-    let s = sharpness(&tile(&reversed, 3, 1, 1));
+    let (s, sharp) = (sharpness(&tile(&reversed, 3, 1, 1)), sharpness(&tile(&plain, 3, 1, 1)));
     assert!(
         s > 0.8 * sharp,
         "reversed-Z blurred the foreground: {s} against {sharp} unblurred"
     );
-}
-
-/// The centre view's sharpness of `cubes` without the effects.
-fn cubes_centre_sharpness_plain() -> f64 {
-    let dir = temp_dir("comfort-cubes-plain");
-    let mut layer = vec![
-        "--quilt",
-        "3x1",
-        "--tile",
-        "320x240",
-        "--output",
-        "quilt",
-        "--depthiness",
-        "0.5",
-    ];
-    layer.extend(dump_and_exit_at(&dir, "4"));
-    let args = ["--backend", "osmesa", "--size", "320x240", "--frames", "4"];
-    let out = under_layer(&layer, app("cubes"), &args, &[]);
-    assert_success(&out, "plain");
-    sharpness(&tile(&read_png(&dir.join("f000004_qs3x1a1.3333.png")), 3, 1, 1))
 }
