@@ -113,7 +113,7 @@ pub(super) fn linear_view(gl: &Gl, info: GlInfo, color: u32, format: GLenum) -> 
     view
 }
 
-fn complete(gl: &Gl) -> bool {
+pub(crate) fn complete(gl: &Gl) -> bool {
     // SAFETY: a status query on the bound framebuffer.
     unsafe { gl.CheckFramebufferStatus(FRAMEBUFFER) == FRAMEBUFFER_COMPLETE }
 }

@@ -7,17 +7,18 @@
 //! leaves alone cost next to nothing (`scripts/comfort-figures.py` measures it):
 //!
 //! - Depth of field (Agus et al.'s downsampled pre-blurred image blended by a variable
-//!   kernel): the 12-tap Poisson gather runs at a quarter of the quilt's size, one texel per
-//!   4x4 quilt texels, into a texture of ours; its result is blended over the quilt's
-//!   background pixels by each pixel's own circle of confusion.
+//!   kernel): a half-size image of the quilt holds each texel's circle of confusion in its
+//!   alpha; 12 Poisson taps of it are gathered around each background pixel and blended over
+//!   it. It tests against a second copy of the depth whose stencil is ours, marked where
+//!   something was drawn, so the empty (cleared) pixels are never shaded.
 //! - Edge fade: the app's clear colour blended over the border bands' foreground pixels.
 //!
-//! Both blends are drawn at the window depth of their disparity threshold (B behind, the
-//! screen plane in front) with the quilt's depth test on and depth writes off, so the
-//! rasteriser drops the pixels on the other side before shading; the threshold is
-//! conservative (the remap only compresses: `R(x) > B` needs `x > B`), and each pixel's
-//! weight comes from its exact disparity in the shader. No colour is copied: blending reads
-//! the quilt, the gather samples it from a framebuffer of its own.
+//! Both are drawn at the depth of their disparity threshold (B behind, the screen plane in
+//! front) with the depth test on and depth writes off, so the rasteriser drops the pixels on
+//! the other side before shading (a software rasteriser runs the whole shader for every pixel
+//! that reaches it, whatever it discards); the threshold is conservative (the remap only
+//! compresses: `R(x) > B` needs `x > B`), and each pixel's weight comes from its exact
+//! disparity in the shader. No colour is copied: both blend premultiplied colour.
 //!
 //! The disparity is the outermost view's, the same for every view, so a pixel fades or blurs
 //! alike in all views and nothing flickers from view to view. The fade goes to the app's
@@ -83,7 +84,7 @@ pub fn apply(
     let depth_format = crate::gl::depth_copy::describe(gl, mv.info, t.fbo)?.format;
     let program = |passes: &mut super::pass::Passes, name, stage: &str| {
         let frag = comfort::with_glsl(&POST_FRAG.replacen('\n', &format!("\n#define {stage}\n"), 1));
-        passes.program_with(gl, mv.info, name, super::pass::AT_DEPTH_VERT, &frag)
+        passes.program(gl, mv.info, name, &frag)
     };
     let dof = match c.dof {
         Some(_) => Some([
@@ -152,12 +153,9 @@ pub fn apply(
             gl.BindTexture(TEXTURE_2D, t.sampled);
             gl.BindSampler(1, 0);
         }
-        uniforms.set(gl, half_program, (0.0, ALWAYS), &["u_color", "u_depth"]);
-        stages.draw(
-            half_program,
-            [0, 0, size.0, size.1],
-            &[[0, 0, (size.0 / 2).max(1), (size.1 / 2).max(1)]],
-        );
+        uniforms.set(gl, half_program, (0.0, ALWAYS));
+        let half = [0, 0, (size.0 / 2).max(1), (size.1 / 2).max(1)];
+        stages.draw(half_program, [([0, 0, size.0, size.1], vec![half])]);
         // SAFETY: the quilt's framebuffer of ours and the half-size image on unit 1.
         unsafe {
             gl.BindFramebuffer(DRAW_FRAMEBUFFER, copies.fbo);
@@ -167,11 +165,12 @@ pub fn apply(
         }
         stages.mark(mark_program, drawn, &[[0, 0, size.0, size.1]]);
         stages.blend();
-        uniforms.set(gl, dof_program, behind, &["u_half", "u_depth"]);
+        uniforms.set(gl, dof_program, behind);
         stages.stencil_test();
-        for i in 0..layout.views() {
-            stages.draw(dof_program, stored_rect(t, i), &[layout.tile_rect(i)]);
-        }
+        stages.draw(
+            dof_program,
+            (0..layout.views()).map(|i| (stored_rect(t, i), vec![layout.tile_rect(i)])),
+        );
     }
     if let (Some(fade_program), Some(band)) = (fade, c.edge_fade) {
         // The quilt's own depth is as good to test against as our copy.
@@ -181,13 +180,16 @@ pub fn apply(
             gl.Disable(STENCIL_TEST);
         }
         stages.blend();
-        uniforms.set(gl, fade_program, front, &["", "u_depth"]);
-        for i in 0..layout.views() {
+        uniforms.set(gl, fade_program, front);
+        let bands = |i| {
             let r = layout.tile_rect(i);
             let b = (band.ceil() as i32).min(r[2] / 2);
-            let bands = [[r[0], r[1], b, r[3]], [r[0] + r[2] - b, r[1], b, r[3]]];
-            stages.draw(fade_program, stored_rect(t, i), &bands);
-        }
+            (
+                stored_rect(t, i),
+                vec![[r[0], r[1], b, r[3]], [r[0] + r[2] - b, r[1], b, r[3]]],
+            )
+        };
+        stages.draw(fade_program, (0..layout.views()).map(bands));
     }
     Ok(())
 }
@@ -218,10 +220,8 @@ impl Stages<'_> {
             gl.StencilOp(KEEP, KEEP, REPLACE);
             gl.ColorMask(FALSE, FALSE, FALSE, FALSE);
         }
-        self.uniforms.set(gl, program, drawn, &[]);
-        for &r in rects {
-            self.draw(program, r, &[r]);
-        }
+        self.uniforms.set(gl, program, drawn);
+        self.draw(program, rects.iter().map(|&r| (r, vec![r])));
         // SAFETY: as above.
         unsafe { gl.ColorMask(TRUE, TRUE, TRUE, TRUE) };
     }
@@ -251,23 +251,19 @@ impl Stages<'_> {
         }
     }
 
-    /// Draws `program` (bound) over `viewports`, for the tile at stored texels `tile`.
-    fn draw(&self, program: u32, tile: [i32; 4], viewports: &[[i32; 4]]) {
+    /// Draws `program` (bound) over each `(tile, viewports)`: the tile at stored texels
+    /// (`u_tile`) and the viewports (GL coordinates of the bound framebuffer) to cover.
+    fn draw(&self, program: u32, tiles: impl IntoIterator<Item = ([i32; 4], Vec<[i32; 4]>)>) {
         let gl = self.gl;
-        // SAFETY: our uniform; restored by the guard.
-        unsafe {
-            gl.Uniform4i(
-                super::pass::uniform(gl, program, "u_tile"),
-                tile[0],
-                tile[1],
-                tile[2],
-                tile[3],
-            )
-        };
-        for v in viewports {
-            // SAFETY: the viewport; restored by the guard.
-            unsafe { gl.Viewport(v[0], v[1], v[2], v[3]) };
-            self.passes.draw(gl);
+        let location = super::pass::uniform(gl, program, "u_tile");
+        for (t, viewports) in tiles {
+            // SAFETY: our uniform and the viewport; restored by the guard.
+            unsafe { gl.Uniform4i(location, t[0], t[1], t[2], t[3]) };
+            for v in viewports {
+                // SAFETY: as above.
+                unsafe { gl.Viewport(v[0], v[1], v[2], v[3]) };
+                self.passes.draw(gl);
+            }
         }
     }
 }
@@ -312,17 +308,17 @@ impl Uniforms {
         }
     }
 
-    /// Binds `program` with its uniforms: the quad at NDC depth `z`, tested with `func`,
-    /// and `samplers` on texture units 1, 2... (an empty name skips a unit).
-    fn set(&self, gl: &Gl, program: u32, (z, func): (f32, GLenum), samplers: &[&str]) {
+    /// Binds `program` with its uniforms: the quad at NDC depth `z`, tested with `func`; the
+    /// stage's image (`u_color` or `u_half`) on texture unit 1, the depth copy on unit 2.
+    fn set(&self, gl: &Gl, program: u32, (z, func): (f32, GLenum)) {
         let u = |n: &str| super::pass::uniform(gl, program, n);
         let (m, r, g, b) = (self.model, self.remap, self.range, self.background);
         // SAFETY: uniforms of our program, bound here; state restored by the caller's guard.
         unsafe {
             gl.UseProgram(program);
             gl.DepthFunc(func);
-            for (k, name) in samplers.iter().enumerate().filter(|(_, n)| !n.is_empty()) {
-                gl.Uniform1i(u(name), k as i32 + 1);
+            for (name, unit) in [("u_color", 1), ("u_half", 1), ("u_depth", 2)] {
+                gl.Uniform1i(u(name), unit);
             }
             gl.Uniform1f(u("u_quad_z"), z);
             gl.Uniform1i(u("u_flipped"), i32::from(self.flipped));

@@ -173,12 +173,10 @@ fn renderbuffer(gl: &Gl, format: GLenum, (w, h): (i32, i32)) -> u32 {
 /// A complete framebuffer of ours with `attach` done on it, stored top-down when `flip`.
 fn framebuffer(gl: &Gl, flip: bool, attach: impl FnOnce()) -> Result<u32, String> {
     let fbo = crate::multiview::target::framebuffer(gl, flip, attach);
-    // SAFETY: a completeness query on the framebuffer just bound.
-    let status = unsafe { gl.CheckFramebufferStatus(FRAMEBUFFER) };
-    if status != FRAMEBUFFER_COMPLETE {
+    if !crate::multiview::target::complete(gl) {
         // SAFETY: our own framebuffer.
         unsafe { gl.DeleteFramebuffers(1, &fbo) };
-        return Err(format!("comfort pass framebuffer incomplete ({status:#x})"));
+        return Err("a comfort pass framebuffer is incomplete".into());
     }
     Ok(fbo)
 }

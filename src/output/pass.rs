@@ -8,7 +8,6 @@ use std::ffi::CString;
 pub const FULLSCREEN_VERT: &str = include_str!("../../glsl-patches/fullscreen.vert");
 pub const LENTICULAR_FRAG: &str = include_str!("../../glsl-patches/lenticular.frag");
 pub const ANAGLYPH_FRAG: &str = include_str!("../../glsl-patches/anaglyph.frag");
-pub const AT_DEPTH_VERT: &str = include_str!("../../glsl-patches/fullscreen_at_depth.vert");
 
 /// Programs and the empty vertex array a full-screen triangle needs, per context.
 #[derive(Default)]
@@ -20,18 +19,6 @@ pub struct Passes {
 impl Passes {
     /// The program for fragment shader `frag` (named `name`), built on first use.
     pub fn program(&mut self, gl: &Gl, info: GlInfo, name: &'static str, frag: &str) -> Result<u32, String> {
-        self.program_with(gl, info, name, FULLSCREEN_VERT, frag)
-    }
-
-    /// The same with vertex shader `vert` (a full-screen triangle of its own).
-    pub fn program_with(
-        &mut self,
-        gl: &Gl,
-        info: GlInfo,
-        name: &'static str,
-        vert: &str,
-        frag: &str,
-    ) -> Result<u32, String> {
         if self.vao == 0 {
             // SAFETY: our own empty vertex array.
             unsafe { gl.GenVertexArrays(1, &mut self.vao) };
@@ -39,7 +26,7 @@ impl Passes {
         if let Some((_, p)) = self.programs.iter().find(|(n, _)| *n == name) {
             return p.clone();
         }
-        let p = crate::gl::program::link(gl, info, vert, frag).map_err(|e| format!("{name} pass: {e}"));
+        let p = crate::gl::program::link(gl, info, FULLSCREEN_VERT, frag).map_err(|e| format!("{name} pass: {e}"));
         self.programs.push((name, p.clone()));
         p
     }
