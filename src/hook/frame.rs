@@ -91,7 +91,7 @@ fn multiview_frame(
             layer.live_generation = generation;
         }
         let (mv, presenter) = (&mut layer.views, &mut layer.presenter);
-        crate::multiview::synthesis::end_frame(gl, mv, frame);
+        crate::multiview::fast::synthesis::end_frame(gl, mv, frame);
         if let Some(t) = &mv.target {
             // As the window resolves at its swap.
             t.resolve_all(gl, mv.info, crate::gl::COLOR_BUFFER_BIT);
@@ -118,7 +118,7 @@ fn multiview_frame(
             }
         }
         crate::multiview::update_convergence(gl, app, mv);
-        crate::multiview::framebuffer::ensure_target(gl, app, mv, window);
+        crate::multiview::replay::framebuffer::ensure_target(gl, app, mv, window);
         observe(&mv.camera.rig, mv.settings.output);
         super::census::log_if_due(frame, layer);
         result

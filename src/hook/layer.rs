@@ -93,7 +93,7 @@ pub fn on_make_current() {
             })
         });
         if let Some(layer) = slot.as_any_mut().downcast_mut::<Layer>() {
-            crate::multiview::framebuffer::ensure_target(gl, app, &mut layer.views, window);
+            crate::multiview::replay::framebuffer::ensure_target(gl, app, &mut layer.views, window);
         }
     });
 }
@@ -102,9 +102,9 @@ pub fn on_make_current() {
 /// framebuffer 0 and unshifted programs, so what it draws from now on reaches the window.
 pub fn abandon() {
     with_active(|cur, app, mv, gl| {
-        crate::multiview::framebuffer::hand_back(gl, mv);
+        crate::multiview::replay::framebuffer::hand_back(gl, mv);
         mv.failed = true;
-        crate::multiview::framebuffer::rebind(gl, app, mv);
+        crate::multiview::replay::framebuffer::rebind(gl, app, mv);
         let views: Vec<(u32, i32)> = cur
             .ctx
             .group

@@ -16,47 +16,40 @@
 //! bookkeeping, and the camera estimate the shifts come from. It does not own the app's
 //! state (`state`) nor the presenting passes (`output::Presenter`); functions take those
 //! they need as arguments.
+//!
+//! # Rooms
+//! The module is five rooms, each a folder with an essay of its own. A room names only the
+//! rooms below it (and this file's [`Multiview`]), never one above:
+//!
+//! | room | owns |
+//! |---|---|
+//! | [`replay`] | what the app's calls to framebuffer 0 and to view-dependent passes become per view: one draw per view, the shift, fixed-function and immediate mode, clears, reads, blits |
+//! | [`shadows`] | the layered shadows of the app's framebuffers and the per-view images they draw into: when a pass is per view, their size, their lifetime |
+//! | [`scene`] | what the scene is: where the main camera draws, its depth, auto-convergence |
+//! | [`fast`] | the fast modes in the quilt: which views a frame renders, the warp point, reuse, `auto`, error measurement |
+//! | [`quilt`] | the quilt itself: where each view lives, the render target standing in for the window, the disparity scale of its tiles |
 
-pub mod auto;
-pub mod comfort;
-pub mod convergence;
-pub mod downscale;
-pub mod framebuffer;
-pub mod history;
-pub mod immediate;
-pub mod layered;
-pub mod layers;
-pub mod layout;
-pub mod lifetime;
-pub mod link;
-pub mod measure;
-pub mod motion;
-pub mod plan;
-pub mod raster;
+// Rooms, top to bottom; a room names only rooms below it (checked by scripts/file-graph.py).
+pub mod fast;
+pub mod quilt;
 pub mod replay;
-pub mod reuse;
-pub mod rotation;
-pub mod sampling;
-pub mod scale;
 pub mod scene;
-pub mod screen_space;
-pub mod shadow;
-pub mod shift;
-pub mod synthesis;
-pub mod target;
-pub mod ubo;
-pub mod window_format;
+pub mod shadows;
 
 use crate::camera::CameraEstimate;
 use crate::config::ViewSettings;
 use crate::gl::GlInfo;
 use crate::state::AppState;
 use crate::state::orphans::LayerObjects;
-use layout::QuiltLayout;
+use fast::{auto, measure, plan, reuse, synthesis};
+use quilt::layout::QuiltLayout;
+use quilt::target::QuiltTarget;
+use replay::{screen_space, shift};
+use scene::convergence;
+use shadows::{layered, shadow, substitute};
 use std::collections::{HashMap, HashSet};
-use target::QuiltTarget;
 
-pub use convergence::update_convergence;
+pub use scene::convergence::update_convergence;
 
 /// Counts of the objects of ours that die with their context (framebuffers and vertex arrays
 /// are not shared); the shared ones are listed by `shared_objects`.
@@ -94,14 +87,14 @@ pub struct Multiview {
     pub images: HashMap<layered::AppImage, layered::LayeredImage>,
     /// Objects whose layers stay at the app's size whatever `--fbo-scale` says (`downscale`).
     pub full_size: HashSet<layered::AppImage>,
-    /// What each of the app's framebuffers has attached (see `layers::FboFacts`).
-    pub fbo_facts: HashMap<u32, layers::FboFacts>,
+    /// What each of the app's framebuffers has attached (see `shadow::FboFacts`).
+    pub fbo_facts: HashMap<u32, shadow::FboFacts>,
     /// Framebuffers already logged as drawn once (not view-dependent), and as shadowed (true)
     /// or refused (false): each is said once at `info`.
     pub drawn_once: HashSet<u32>,
     pub announced: HashSet<(u32, bool)>,
     /// Kept from draw to draw so that replays do not allocate.
-    pub substitutions: layers::Substitutions,
+    pub substitutions: substitute::Substitutions,
     pub camera_uniforms: Vec<screen_space::CameraUniform>,
     /// Per-view shears of the fixed-function projection and of the camera projection.
     pub sheared: shift::ShearedProjections,

@@ -31,7 +31,7 @@ use crate::camera::projection::DepthRange;
 use crate::gl::guard::StateGuard;
 use crate::gl::*;
 use crate::multiview::Multiview;
-use crate::multiview::target::QuiltTarget;
+use crate::multiview::quilt::target::QuiltTarget;
 use crate::synth::disparity::ParallaxModel;
 
 const POST_FRAG: &str = include_str!("../../glsl-patches/comfort_post.frag");
@@ -70,8 +70,8 @@ pub fn apply(
     let Some(model) = ParallaxModel::new(depth, convergence) else {
         return Ok(());
     };
-    let s = crate::multiview::comfort::pixels_per_parallax(mv);
-    let range = crate::multiview::comfort::range_pixels(mv);
+    let s = crate::multiview::quilt::comfort::pixels_per_parallax(mv);
+    let range = crate::multiview::quilt::comfort::range_pixels(mv);
     let (Some(behind), Some(front)) = (
         threshold(depth, convergence, s, range.back),
         threshold(depth, convergence, s, 0.0),
@@ -298,8 +298,8 @@ impl Uniforms {
         Uniforms {
             model,
             s: s as f32,
-            remap: crate::multiview::comfort::remap_pixels(mv),
-            range: crate::multiview::comfort::range_pixels(mv).uniform(),
+            remap: crate::multiview::quilt::comfort::remap_pixels(mv),
+            range: crate::multiview::quilt::comfort::range_pixels(mv).uniform(),
             fade: c.edge_fade.unwrap_or(0.0) as f32,
             radius: (c.dof.unwrap_or(0.0) * RADIUS_PER_STRENGTH) as f32,
             background,

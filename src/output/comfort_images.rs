@@ -3,7 +3,7 @@
 //! colour so the pass may overwrite its stencil) and the pre-blurred half-size image.
 
 use crate::gl::*;
-use crate::multiview::target::QuiltTarget;
+use crate::multiview::quilt::target::QuiltTarget;
 
 #[derive(Default)]
 pub struct ComfortCopies {
@@ -172,8 +172,8 @@ fn renderbuffer(gl: &Gl, format: GLenum, (w, h): (i32, i32)) -> u32 {
 
 /// A complete framebuffer of ours with `attach` done on it, stored top-down when `flip`.
 fn framebuffer(gl: &Gl, flip: bool, attach: impl FnOnce()) -> Result<u32, String> {
-    let fbo = crate::multiview::target::framebuffer(gl, flip, attach);
-    if !crate::multiview::target::complete(gl) {
+    let fbo = crate::multiview::quilt::target::framebuffer(gl, flip, attach);
+    if !crate::multiview::quilt::target::complete(gl) {
         // SAFETY: our own framebuffer.
         unsafe { gl.DeleteFramebuffers(1, &fbo) };
         return Err("a comfort pass framebuffer is incomplete".into());

@@ -9,7 +9,7 @@ use crate::config::Output;
 use crate::gl::guard::StateGuard;
 use crate::gl::*;
 use crate::multiview::Multiview;
-use crate::multiview::layout::QuiltLayout;
+use crate::multiview::quilt::layout::QuiltLayout;
 
 /// Letterboxed rectangle (x0, y0, x1, y1) of a `w`×`h` image fitted into the window.
 fn fit(w: u32, h: u32, win_w: u32, win_h: u32) -> [i32; 4] {

@@ -46,7 +46,7 @@ pub fn quilt(
 
 /// Exchanges the tiles of grid cells `a` and `b` in a bottom-up RGBA8 image of the quilt: the
 /// layer draws views `a` and `b` in each other's cell (`QuiltLayout::swapped`).
-pub(super) fn swap_tiles(rgba: &mut [u8], l: crate::multiview::layout::QuiltLayout, a: u32, b: u32) {
+pub(super) fn swap_tiles(rgba: &mut [u8], l: crate::multiview::quilt::layout::QuiltLayout, a: u32, b: u32) {
     let ((ax, ay), (bx, by)) = (l.cell_origin(a), l.cell_origin(b));
     let (stride, row) = (l.width() as usize * 4, l.tile_w as usize * 4);
     for y in 0..l.tile_h as usize {
@@ -77,7 +77,7 @@ pub fn native(
 
 #[cfg(test)]
 mod tests {
-    use crate::multiview::layout::QuiltLayout;
+    use crate::multiview::quilt::layout::QuiltLayout;
 
     #[test]
     fn swapped_tiles_go_back() {

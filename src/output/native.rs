@@ -8,7 +8,7 @@ use super::weave::Filter;
 use crate::config::device::Device;
 use crate::gl::GlInfo;
 use crate::gl::*;
-use crate::multiview::layout::QuiltLayout;
+use crate::multiview::quilt::layout::QuiltLayout;
 
 /// The native-resolution target, created on first use per context.
 pub struct NativeTarget {

@@ -17,7 +17,7 @@
 use super::encoder::Encoder;
 use crate::gl::{Gl, GlInfo, pbo};
 use crate::log::{self, Level};
-use crate::multiview::layout::QuiltLayout;
+use crate::multiview::quilt::layout::QuiltLayout;
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;

@@ -145,7 +145,8 @@ fn replay_quilt(
         .collect::<Vec<_>>()
         .join("\n");
     eprintln!("{test}: {convergence}");
-    let aspect = holoinject::multiview::layout::QuiltLayout::new((5, 1), None, (plain.width, plain.height)).file_tag();
+    let aspect =
+        holoinject::multiview::quilt::layout::QuiltLayout::new((5, 1), None, (plain.width, plain.height)).file_tag();
     let quilt_png = dump.join(format!("f{frame:06}_{aspect}.png"));
     let quilt = read_png(&quilt_png);
     let centre = tile(&quilt, 5, 1, 2);
@@ -516,7 +517,8 @@ fn f3d_ssao_quilt_shows_the_model_in_every_view() {
         "info",
     ];
     let out = f3d(&layer, &dir.join("quilt"), "1,100", "100");
-    let aspect = holoinject::multiview::layout::QuiltLayout::new((3, 3), None, (plain.width, plain.height)).file_tag();
+    let aspect =
+        holoinject::multiview::quilt::layout::QuiltLayout::new((3, 3), None, (plain.width, plain.height)).file_tag();
     for frame in [1, 100] {
         let png = dir.join(format!("quilt/f{frame:06}_{aspect}.png"));
         let quilt = read_png(&png);

@@ -46,7 +46,7 @@ fn assert_centre_is_passthrough(test: &str, api: &str, retrace: &[&str], program
         let options = ["--quilt", quilt, "--output", "quilt", "--preset", "none"];
         let dump = replay(&dir, &format!("quilt{quilt}"), retrace, &trace, frame, &options);
         let aspect =
-            holoinject::multiview::layout::QuiltLayout::new((cols, 1), None, (expected.width, expected.height))
+            holoinject::multiview::quilt::layout::QuiltLayout::new((cols, 1), None, (expected.width, expected.height))
                 .file_tag();
         let quilt_png = dump.join(format!("f{frame:06}_{aspect}.png"));
         let centre = tile(&read_png(&quilt_png), cols, 1, cols / 2);

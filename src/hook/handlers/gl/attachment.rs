@@ -6,8 +6,8 @@
 
 use crate::gl::types::*;
 use crate::hook::layer::with_active;
-use crate::multiview::layered::AppImage;
-use crate::multiview::lifetime;
+use crate::multiview::shadows::layered::AppImage;
+use crate::multiview::shadows::lifetime;
 
 /// The app's framebuffer `fbo` (None: the one bound to `target`) got `name` (0: nothing) at
 /// `point`, mip `level`.

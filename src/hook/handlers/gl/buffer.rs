@@ -2,7 +2,7 @@
 //! block (see `multiview::ubo`, which decides whether a write can reach one).
 
 use crate::gl::types::*;
-use crate::multiview::ubo;
+use crate::multiview::replay::ubo;
 use core::ffi::c_void;
 
 /// A write to the buffer bound to `target`, in the current context.

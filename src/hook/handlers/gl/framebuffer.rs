@@ -4,7 +4,7 @@
 
 use crate::gl::types::*;
 use crate::hook::layer::with_active;
-use crate::multiview::framebuffer as fb;
+use crate::multiview::replay::framebuffer as fb;
 use core::ffi::c_void;
 
 pub(crate) fn glBindFramebuffer(real: impl Fn(GLenum, GLuint), target: GLenum, fbo: GLuint) {
@@ -77,7 +77,7 @@ pub(crate) fn glScissor(real: impl Fn(GLint, GLint, GLsizei, GLsizei), x: GLint,
 /// erase is copied first for auto-convergence.
 fn clear_tiles(depth: bool, f: impl Fn()) {
     let done = with_active(|_, app, mv, gl| {
-        crate::multiview::convergence::before_erase(gl, app, mv, app.draw_fbo, depth);
+        crate::multiview::scene::convergence::before_erase(gl, app, mv, app.draw_fbo, depth);
         fb::clear(gl, app, mv, &f)
     });
     if done.is_none() {
@@ -219,7 +219,7 @@ pub(crate) fn glInvalidateFramebuffer(
             app.draw_fbo
         };
         // Engines for tiled GPUs invalidate the scene's depth once it is drawn.
-        crate::multiview::convergence::before_erase(gl, app, mv, fbo, depth);
+        crate::multiview::scene::convergence::before_erase(gl, app, mv, fbo, depth);
         mv.quilt_fbo().is_some() && fbo == 0
     });
     if on_fb0 != Some(true) {

@@ -8,15 +8,15 @@ use crate::gl::types::*;
 use crate::hook::layer::with_active;
 
 pub(crate) fn glBegin(real: impl Fn(GLenum), mode: GLenum) {
-    with_active(|_, app, mv, gl| crate::multiview::immediate::begin(gl, app, mv));
+    with_active(|_, app, mv, gl| crate::multiview::replay::immediate::begin(gl, app, mv));
     real(mode)
 }
 
 pub(crate) fn glEnd(real: impl Fn()) {
     real();
-    let list = with_active(|_, _, mv, gl| crate::multiview::immediate::end(gl, mv)).flatten();
+    let list = with_active(|_, _, mv, gl| crate::multiview::replay::immediate::end(gl, mv)).flatten();
     if let Some(list) = list {
-        super::per_view_gl(|gl| crate::multiview::immediate::call(gl, list));
+        super::per_view_gl(|gl| crate::multiview::replay::immediate::call(gl, list));
     }
 }
 

@@ -31,7 +31,7 @@ pub(crate) use texture::*;
 /// calls it once.
 pub(crate) fn per_view(f: impl Fn()) {
     let done = crate::hook::layer::with_active(|cur, app, mv, gl| {
-        crate::multiview::replay::draw(gl, app, mv, &cur.ctx.group, &f)
+        crate::multiview::replay::draw::draw(gl, app, mv, &cur.ctx.group, &f)
     });
     if done.is_none() {
         f()
@@ -41,6 +41,6 @@ pub(crate) fn per_view(f: impl Fn()) {
 /// `per_view` for replays that issue GL calls of their own.
 fn per_view_gl(f: impl Fn(&crate::gl::Gl)) {
     crate::hook::layer::with_active(|cur, app, mv, gl| {
-        crate::multiview::replay::draw(gl, app, mv, &cur.ctx.group, || f(gl))
+        crate::multiview::replay::draw::draw(gl, app, mv, &cur.ctx.group, || f(gl))
     });
 }

@@ -9,7 +9,7 @@ pub(crate) fn glLinkProgram(real: impl Fn(GLuint), program: GLuint) {
     let done = crate::state::with_current(|cur| {
         let cur = cur?;
         let (gl, _) = cur.ctx.gl()?;
-        crate::multiview::link::link_program(gl, &cur.ctx.group, program, || real(program));
+        crate::multiview::replay::link::link_program(gl, &cur.ctx.group, program, || real(program));
         Some(())
     });
     if done.is_none() {

@@ -4,7 +4,7 @@
 
 use crate::gl::types::*;
 use crate::hook::layer::with_active;
-use crate::multiview::framebuffer as fb;
+use crate::multiview::replay::framebuffer as fb;
 
 const NUM_PROGRAM_BINARY_FORMATS: GLenum = 0x87FE;
 

@@ -5,7 +5,7 @@
 
 use crate::gl::types::*;
 use crate::hook::layer::with_active;
-use crate::multiview::{raster, replay};
+use crate::multiview::replay::{draw, raster};
 use core::ffi::c_void;
 
 /// Replays a raster operation per view with the raster position moved into each tile;
@@ -17,11 +17,11 @@ fn per_view_raster(advance: (f32, f32), f: impl Fn(Option<[i32; 4]>)) {
         }
         let Some(layout) = mv.layout() else { return false };
         let saved = raster::save(gl);
-        replay::draw_views(gl, app, mv, &cur.ctx.group, |i| {
-            if i != replay::SINGLE {
+        draw::draw_views(gl, app, mv, &cur.ctx.group, |i| {
+            if i != draw::SINGLE {
                 raster::place(gl, &saved, &layout, i);
             }
-            f((i != replay::SINGLE).then(|| layout.tile_rect(i)))
+            f((i != draw::SINGLE).then(|| layout.tile_rect(i)))
         });
         raster::finish(gl, &saved, advance);
         true

@@ -8,7 +8,7 @@ use super::super::app_slice;
 use crate::gl::Gl;
 use crate::gl::types::*;
 use crate::hook::layer::with_active;
-use crate::multiview::{lifetime, sampling};
+use crate::multiview::shadows::{lifetime, sampling};
 
 /// `glTexParameter*(target, pname, …)`: the app's texture is the one bound to `target` on the
 /// active unit (only `GL_TEXTURE_2D` textures have layer views). Calls compiled into a

@@ -6,8 +6,8 @@
 use super::super::app_slice;
 use crate::gl::types::*;
 use crate::hook::layer::with_active;
-use crate::multiview::layered::AppImage;
-use crate::multiview::lifetime;
+use crate::multiview::shadows::layered::AppImage;
+use crate::multiview::shadows::lifetime;
 use core::ffi::c_void;
 
 pub(crate) fn glActiveTexture(real: impl Fn(GLenum), texture: GLenum) {

@@ -4,8 +4,8 @@
 //! that view's tile with `glWindowPos` (keeping the raster colour and depth), and afterwards
 //! put back where the app's call left it (a bitmap advances it).
 
-use super::layout::QuiltLayout;
 use crate::gl::*;
+use crate::multiview::quilt::layout::QuiltLayout;
 
 /// The app's raster position (window x, y, z) and colour before the replay.
 pub struct RasterState {

@@ -4,8 +4,8 @@
 //! i's replay those uniforms get view i's sheared projection `P'_i` (or its inverse), found by
 //! value: a tracked `mat4` of the program equal to the main camera's projection.
 
-use super::Multiview;
 use crate::gl::*;
+use crate::multiview::Multiview;
 use crate::state::AppState;
 
 /// A uniform of the current program that holds the camera projection (or its inverse).

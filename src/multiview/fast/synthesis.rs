@@ -6,11 +6,11 @@
 //! shadow (a post-processed scene reaches framebuffer 0 through a full-screen composite
 //! whose depth means nothing). Colour always comes from the quilt tile: what the view shows.
 
-use super::Multiview;
 use crate::gl::depth_copy;
 use crate::gl::guard::StateGuard;
 use crate::gl::*;
 use crate::log::{self, Level};
+use crate::multiview::Multiview;
 use crate::synth::{Job, ParallaxModel, Source, Target};
 use std::sync::atomic::AtomicBool;
 
@@ -189,7 +189,7 @@ fn try_warp(gl: &Gl, mv: &mut Multiview, kept: &[u32], mark_holes: bool) -> Resu
         model: model.unwrap_or(ParallaxModel::FLAT),
         depthiness: if model.is_some() { rig.depthiness } else { 0.0 },
         focus: rig.focus,
-        remap: super::comfort::remap_pixels(mv),
+        remap: crate::multiview::quilt::comfort::remap_pixels(mv),
         threshold: mv.settings.synth_threshold,
         rows: mv.settings.synth_warp == crate::config::SynthWarp::Rows,
         per_pixel: mv.plan.per_pixel,

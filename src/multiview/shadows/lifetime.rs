@@ -8,9 +8,9 @@
 //! only when its object is deleted or gets other storage or new content, and is then made
 //! again from the app's content when needed.
 
-use super::Multiview;
 use super::layered::{self, AppImage};
 use crate::gl::*;
+use crate::multiview::Multiview;
 
 /// `glFramebufferTexture*`/`glFramebufferRenderbuffer` on the app's framebuffer `fbo`:
 /// `object` (None: detached) at `point`, mip `level`.

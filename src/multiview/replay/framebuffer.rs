@@ -1,11 +1,11 @@
 //! Framebuffer 0 as the app sees it, standing on our quilt: bindings, draw/read buffers,
 //! `glGet*` answers, clears, reads and blits.
 
-use super::Multiview;
-use super::layout::{QuiltLayout, intersect};
-use super::scale::LayerScale;
-use super::target::QuiltTarget;
 use crate::gl::*;
+use crate::multiview::Multiview;
+use crate::multiview::quilt::layout::{QuiltLayout, intersect};
+use crate::multiview::quilt::target::QuiltTarget;
+use crate::multiview::shadows::scale::LayerScale;
 use crate::state::AppState;
 
 /// Creates (or re-creates, when the window size changed) the quilt, and binds it wherever
@@ -242,7 +242,7 @@ pub fn on_real_target<R>(
 /// Clears every layer of a shadowed framebuffer of the app (the app's scissor box mapped
 /// into scaled layers).
 fn clear_layers(gl: &Gl, app: &mut AppState, mv: &mut Multiview, f: &impl Fn()) -> bool {
-    let Some(views) = super::layers::current_views(gl, mv, app.draw_fbo) else {
+    let Some(views) = crate::multiview::shadows::layers::current_views(gl, mv, app.draw_fbo) else {
         return false;
     };
     let scale = mv.shadows.get(&app.draw_fbo).map_or(LayerScale::ONE, |s| s.scale);
@@ -277,7 +277,7 @@ pub fn clear(gl: &Gl, app: &mut AppState, mv: &mut Multiview, f: impl Fn()) {
         return f();
     };
     if mv.plan.before_default_draw(false) {
-        super::synthesis::warp(gl, mv);
+        crate::multiview::fast::synthesis::warp(gl, mv);
     }
     if !app.enabled(gl, SCISSOR_TEST) {
         return f();
@@ -337,14 +337,17 @@ pub fn blit(gl: &Gl, app: &AppState, mv: &mut Multiview, src: [i32; 4], dst: [i3
     let corners = |r: [i32; 4]| [r[0], r[1], r[2] - r[0], r[3] - r[1]];
     let back = |r: [i32; 4]| [r[0], r[1], r[0] + r[2], r[1] + r[3]];
     let (read, draw) = (app.read_fbo, app.draw_fbo);
-    let src_layers = super::layers::current_views(gl, mv, read);
+    let src_layers = crate::multiview::shadows::layers::current_views(gl, mv, read);
     let mut dst_layers = blit_destination(gl, mv, draw, src_layers.is_some());
-    if src_layers.is_some() && dst_layers.is_some() && super::downscale::resolve_needs_full_size(mv, read, draw) {
+    if src_layers.is_some()
+        && dst_layers.is_some()
+        && crate::multiview::shadows::downscale::resolve_needs_full_size(mv, read, draw)
+    {
         let why = (
             "a multisampled framebuffer of the program's size is blitted into it",
             "",
         );
-        super::downscale::unscale_framebuffer(gl, mv, draw, why);
+        crate::multiview::shadows::downscale::unscale_framebuffer(gl, mv, draw, why);
         dst_layers = blit_destination(gl, mv, draw, true);
     }
     let scale_of = |fbo: u32, layers: &Option<_>| match layers {
@@ -355,7 +358,7 @@ pub fn blit(gl: &Gl, app: &AppState, mv: &mut Multiview, src: [i32; 4], dst: [i3
     resolved_blit_source(gl, app, mv);
     let per_view = draw == 0 || src_layers.is_some() || dst_layers.is_some();
     if draw == 0 && mv.plan.before_default_draw(src_layers.is_some() || read == 0) {
-        super::synthesis::warp(gl, mv);
+        crate::multiview::fast::synthesis::warp(gl, mv);
     }
     if !per_view {
         let s = if read == 0 {
@@ -404,8 +407,13 @@ pub fn blit(gl: &Gl, app: &AppState, mv: &mut Multiview, src: [i32; 4], dst: [i3
 fn blit_destination(gl: &Gl, mv: &mut Multiview, fbo: u32, layered_source: bool) -> Option<std::sync::Arc<[u32]>> {
     match (fbo, layered_source) {
         (0, _) => None,
-        (_, true) => super::layers::ensure_shadow(gl, mv, fbo, "a view-dependent framebuffer is blitted into it"),
-        (_, false) => super::layers::current_views(gl, mv, fbo),
+        (_, true) => crate::multiview::shadows::layers::ensure_shadow(
+            gl,
+            mv,
+            fbo,
+            "a view-dependent framebuffer is blitted into it",
+        ),
+        (_, false) => crate::multiview::shadows::layers::current_views(gl, mv, fbo),
     }
 }
 
@@ -415,7 +423,7 @@ fn blit_destination(gl: &Gl, mv: &mut Multiview, fbo: u32, layered_source: bool)
 /// their layers live), and the read is the app's own, at the app's size: the centre view at
 /// the layers' resolution.
 pub fn read_centre_layer(gl: &Gl, app: &AppState, mv: &mut Multiview) -> bool {
-    let Some(views) = super::layers::current_views(gl, mv, app.read_fbo) else {
+    let Some(views) = crate::multiview::shadows::layers::current_views(gl, mv, app.read_fbo) else {
         return false;
     };
     let centre = mv.camera.rig.centre();

@@ -7,12 +7,12 @@
 //! over RGB (DESIGN §6), logged as one line. What is drawn after the warp point (HUDs) is
 //! drawn alike in both and not part of the comparison.
 
-use super::layout::QuiltLayout;
-use super::target::QuiltTarget;
 use crate::gl::GlInfo;
 use crate::gl::guard::StateGuard;
 use crate::gl::readback::{self, Source};
 use crate::gl::*;
+use crate::multiview::quilt::layout::QuiltLayout;
+use crate::multiview::quilt::target::QuiltTarget;
 
 #[derive(Default)]
 pub struct ErrorMeasure {

@@ -3,9 +3,9 @@
 //! fixed-function projection. Nothing here locks the share group or asks GL, except once
 //! after something the layer could not follow (a relink elsewhere, `glPopAttrib`).
 
-use super::Multiview;
 use crate::camera::projection::{self, ProjectionKind};
 use crate::gl::Gl;
+use crate::multiview::Multiview;
 use crate::shader::ViewMode;
 use crate::state::share::UboMember;
 use crate::state::{AppState, ShareGroup};

@@ -1,68 +1,15 @@
-//! Which draws go to layered shadows, building and rebuilding the shadows, and the per-view
-//! texture substitution (see `shadow` and `layered`; what the app's calls do to shadows and
-//! images is in `lifetime`).
+//! Which draws go to layered shadows, and building and rebuilding the shadows (see `shadow`
+//! and `layered`; what the app's calls do to shadows and images is in `lifetime`, the
+//! per-view texture binding in `substitute`).
 
-use super::Multiview;
 use super::layered::{AppImage, LayeredImage, Storage};
 use super::lifetime;
 use super::scale::LayerScale;
-use super::shadow::{self, Attached, ShadowFbo};
+use super::shadow::{self, Attached, ShadowFbo, facts};
+use super::substitute::Substitutions;
 use crate::gl::*;
-use crate::state::AppState;
-use std::collections::HashMap;
+use crate::multiview::Multiview;
 use std::sync::Arc;
-
-/// Units whose bound texture has layer views: (unit, app texture, views).
-pub type Substitutions = Vec<(u32, u32, Arc<[u32]>)>;
-
-/// Fills `subs` (emptied first; a vector kept from draw to draw, so that no draw allocates).
-pub fn substitutions(app: &AppState, mv: &Multiview, subs: &mut Substitutions) {
-    subs.clear();
-    if mv.images.is_empty() {
-        return;
-    }
-    for (unit, &tex) in app.units.bound_2d.iter().enumerate().filter(|(_, t)| **t != 0) {
-        if let Some(image) = mv
-            .images
-            .get(&AppImage::texture(tex))
-            .filter(|i| !i.layer_views.is_empty())
-        {
-            subs.push((unit as u32, tex, image.layer_views.clone()));
-        }
-    }
-}
-
-/// Binds view `i`'s layers (`None`: the app's own textures back) on the substituted units.
-pub fn bind_layers(gl: &Gl, app: &AppState, subs: &Substitutions, i: Option<usize>) {
-    if subs.is_empty() {
-        return;
-    }
-    // SAFETY: texture bindings of this context; the app's active unit is put back.
-    unsafe {
-        for (unit, texture, views) in subs {
-            gl.ActiveTexture(TEXTURE0 + unit);
-            gl.BindTexture(TEXTURE_2D, i.map_or(*texture, |i| views[i.min(views.len() - 1)]));
-        }
-        gl.ActiveTexture(TEXTURE0 + app.units.active);
-    }
-}
-
-/// What the layer knows of one of the app's framebuffers, asked of GL once per attachment
-/// change, not per draw (shadow-map passes draw a lot).
-pub struct FboFacts {
-    pub has_color: bool,
-    pub objects: Vec<AppImage>,
-}
-
-pub(super) fn facts<'a>(gl: &Gl, all: &'a mut HashMap<u32, FboFacts>, fbo: u32) -> &'a FboFacts {
-    all.entry(fbo).or_insert_with(|| {
-        let found = shadow::attachments(gl, fbo);
-        FboFacts {
-            has_color: found.iter().any(|(p, _, _)| shadow::is_color(*p)),
-            objects: found.iter().map(|(_, a, _)| *a).collect(),
-        }
-    })
-}
 
 /// Why a draw into the app's framebuffer `fbo` is view-dependent, if it is. A framebuffer
 /// holding an object that has per-view content must be drawn per view, whatever the draw:

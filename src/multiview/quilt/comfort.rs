@@ -1,8 +1,8 @@
 //! The comfort remap's uniforms for this frame's rig: the settings are read on every draw
 //! and warp (`ViewSettings::comfort`), so a change takes effect at once.
 
-use super::Multiview;
 use crate::camera::comfort::{DepthRemap, REMAP_OFF};
+use crate::multiview::Multiview;
 
 /// Tile pixels of the outermost view's disparity per unit of parallax `1 - c/w`.
 pub fn pixels_per_parallax(mv: &Multiview) -> f64 {

@@ -16,11 +16,11 @@
 //! frame in which it is decided loses what earlier passes of that frame drew into those
 //! layers.
 
-use super::Multiview;
 use super::layered::{AppImage, Storage};
-use super::layers::Substitutions;
 use super::scale::LayerScale;
+use super::substitute::Substitutions;
 use crate::gl::*;
+use crate::multiview::Multiview;
 
 /// The factors `--fbo-scale` gives in this context now (1 before the quilt exists).
 pub fn context_scale(mv: &Multiview) -> LayerScale {
@@ -58,7 +58,7 @@ pub fn describe(scale: LayerScale) -> String {
 /// before their next use). `true` when something was dropped. Asks GL nothing and allocates
 /// nothing once `fbo` is full-size.
 pub fn unscale_framebuffer(gl: &Gl, mv: &mut Multiview, fbo: u32, why: (&str, &str)) -> bool {
-    let facts = super::layers::facts(gl, &mut mv.fbo_facts, fbo);
+    let facts = super::shadow::facts(gl, &mut mv.fbo_facts, fbo);
     if facts.objects.iter().all(|a| mv.full_size.contains(a)) {
         return false;
     }

@@ -12,15 +12,15 @@
 //! `GL_SAMPLES_PASSED` query around the draws counts the pixels that differ. Its result is
 //! waited for right away: the kept views are shown this frame or not at all.
 
-use super::layout::QuiltLayout;
-use super::target::QuiltTarget;
 use crate::gl::GlInfo;
 use crate::gl::guard::{StateGuard, get_i};
 use crate::gl::types::GLbitfield;
 use crate::gl::*;
+use crate::multiview::quilt::layout::QuiltLayout;
+use crate::multiview::quilt::target::QuiltTarget;
 
-const FULLSCREEN_VERT: &str = include_str!("../../glsl-patches/fullscreen.vert");
-const COMPARE_FRAG: &str = include_str!("../../glsl-patches/reuse_compare.frag");
+const FULLSCREEN_VERT: &str = include_str!("../../../glsl-patches/fullscreen.vert");
+const COMPARE_FRAG: &str = include_str!("../../../glsl-patches/reuse_compare.frag");
 
 pub struct History {
     /// Colour (the quilt's format) and depth/stencil (the quilt's) textures, on `fbo`.
@@ -75,7 +75,7 @@ fn renderbuffer(gl: &Gl, format: GLenum, (w, h): (i32, i32)) -> u32 {
 /// optionally a depth texture; an error if it is incomplete.
 fn framebuffer(gl: &Gl, flip: bool, color: (u32, bool), depth: Option<(GLenum, u32)>) -> Result<u32, String> {
     // SAFETY: attaching our own images to the framebuffer just made and bound.
-    let fbo = super::target::framebuffer(gl, flip, || unsafe {
+    let fbo = crate::multiview::quilt::target::framebuffer(gl, flip, || unsafe {
         match color {
             (t, true) => gl.FramebufferTexture2D(FRAMEBUFFER, COLOR_ATTACHMENT0, TEXTURE_2D, t, 0),
             (rb, false) => gl.FramebufferRenderbuffer(FRAMEBUFFER, COLOR_ATTACHMENT0, RENDERBUFFER, rb),
@@ -124,7 +124,7 @@ impl History {
             gl.TexStorage2D(TEXTURE_2D, 1, quilt.color_format, size.0, size.1);
             gl.TexParameteri(TEXTURE_2D, TEXTURE_MIN_FILTER, NEAREST as i32);
             gl.TexParameteri(TEXTURE_2D, TEXTURE_MAG_FILTER, NEAREST as i32);
-            h.sampled = super::target::linear_view(gl, info, h.color, quilt.color_format);
+            h.sampled = crate::multiview::quilt::target::linear_view(gl, info, h.color, quilt.color_format);
             gl.GenVertexArrays(1, &mut h.vao);
             gl.GenQueries(1, &mut h.query);
         }

@@ -45,10 +45,10 @@
 //! that sits at the budget look affordable again. Each change is logged at info, and every
 //! `STATUS_FRAMES` frames at one K their median time.
 
-use super::Multiview;
 use super::plan::ViewPlan;
 use crate::camera::projection::DepthRange;
 use crate::config::Mode;
+use crate::multiview::Multiview;
 use std::time::Instant;
 
 /// Frames of the process whose time is not used (programs linked, resources created).

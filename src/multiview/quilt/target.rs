@@ -94,7 +94,7 @@ fn texture(gl: &Gl, format: GLenum, (w, h): (i32, i32)) -> u32 {
 
 /// A view of `color` (immutable storage in `format`) in the linear format of the same size
 /// (desktop GL 4.3; elsewhere our passes read an sRGB quilt decoded).
-pub(super) fn linear_view(gl: &Gl, info: GlInfo, color: u32, format: GLenum) -> u32 {
+pub(in crate::multiview) fn linear_view(gl: &Gl, info: GlInfo, color: u32, format: GLenum) -> u32 {
     let linear = match format {
         SRGB8_ALPHA8 => RGBA8,
         SRGB8 => RGB8,

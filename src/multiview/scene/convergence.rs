@@ -3,13 +3,13 @@
 //! Which framebuffer and when: see `scene`. What a copy needs to know of its source is asked
 //! of GL at the swap, so that a copy taken inside a draw call asks GL nothing.
 
-use super::Multiview;
-use super::layout::intersect;
-use super::scene::{Candidate, Phase, SceneTracker};
+use super::tracker::{Candidate, Phase, SceneTracker};
 use crate::camera::convergence;
 use crate::config::Convergence;
 use crate::gl::depth_copy::{self, DepthCopy, Restore, SourceFormat};
 use crate::gl::{Gl, SCISSOR_TEST};
+use crate::multiview::Multiview;
+use crate::multiview::quilt::layout::intersect;
 use crate::state::AppState;
 
 /// The scene's depth: where it is drawn, and our copy of it.
@@ -56,7 +56,7 @@ impl SceneDepth {
 /// when the tracker asks (in a draw or a clear), and at the swap.
 pub fn take_depth(gl: &Gl, app: &mut AppState, mv: &mut Multiview) {
     mv.scene.tracker.phase = Phase::Taken;
-    super::synthesis::capture_depth(gl, mv);
+    crate::multiview::fast::synthesis::capture_depth(gl, mv);
     copy_for_convergence(gl, app, mv);
 }
 
@@ -198,7 +198,7 @@ fn estimate(gl: &Gl, mv: &mut Multiview) {
         }
     }
     let width = mv.scene.copy.copied().1[2].max(1) as usize;
-    super::auto::scene_depth(mv, &depths, width, range);
+    crate::multiview::fast::auto::scene_depth(mv, &depths, width, range);
     if mv.settings.convergence != Convergence::Auto {
         return;
     }

@@ -1,7 +1,7 @@
 //! Recording of immediate-mode blocks for per-view replay (see the GL handler's essay).
 
-use super::Multiview;
 use crate::gl::*;
+use crate::multiview::Multiview;
 use crate::state::AppState;
 
 /// Starts compiling the coming `glBegin`…`glEnd` block into our list, when it will need

@@ -47,11 +47,11 @@
 //! without a change of depth (a light, an animated texture) inside a disocclusion is not
 //! either.
 
-use super::Multiview;
 use super::rotation::{Change, Rotation, Signature};
 use crate::config::Mode;
 use crate::gl::*;
 use crate::log::{self, Level};
+use crate::multiview::Multiview;
 use crate::synth::reproject::{MovedView, ReprojectJob};
 use std::sync::atomic::AtomicBool;
 

@@ -21,6 +21,7 @@ use super::layered::AppImage;
 use super::scale::LayerScale;
 use crate::gl::GlInfo;
 use crate::gl::*;
+use std::collections::HashMap;
 use std::sync::Arc;
 
 /// An image attached to the view framebuffers: the app's object and our array.
@@ -225,4 +226,21 @@ impl ShadowFbo {
             .find(|a| a.point == point || a.point == DEPTH_STENCIL_ATTACHMENT && is_depth_or_stencil(point))
             .map(|a| a.app)
     }
+}
+
+/// What the layer knows of one of the app's framebuffers, asked of GL once per attachment
+/// change, not per draw (shadow-map passes draw a lot).
+pub struct FboFacts {
+    pub has_color: bool,
+    pub objects: Vec<AppImage>,
+}
+
+pub fn facts<'a>(gl: &Gl, all: &'a mut HashMap<u32, FboFacts>, fbo: u32) -> &'a FboFacts {
+    all.entry(fbo).or_insert_with(|| {
+        let found = attachments(gl, fbo);
+        FboFacts {
+            has_color: found.iter().any(|(p, _, _)| is_color(*p)),
+            objects: found.iter().map(|(_, a, _)| *a).collect(),
+        }
+    })
 }

@@ -12,13 +12,14 @@
 //! share-group lock, asks GL nothing and allocates nothing: what it needs is shadowed in
 //! `state::AppState` or kept in `Multiview` from draw to draw.
 
-use super::Multiview;
-use super::layers::{self, Substitutions};
-use super::layout::{QuiltLayout, intersect};
-use super::scale::LayerScale;
 use super::screen_space;
 use super::shift::{self, Shift};
 use crate::gl::*;
+use crate::multiview::Multiview;
+use crate::multiview::quilt::layout::{QuiltLayout, intersect};
+use crate::multiview::shadows::layers;
+use crate::multiview::shadows::scale::LayerScale;
+use crate::multiview::shadows::substitute::{self, Substitutions};
 use crate::shader::ViewMode;
 use crate::state::share::ProgramInfo;
 use crate::state::{AppState, ShareGroup};
@@ -44,7 +45,7 @@ pub fn draw_views(gl: &Gl, app: &mut AppState, mv: &mut Multiview, group: &Share
         subs: std::mem::take(&mut mv.substitutions),
         camera_uniforms: std::mem::take(&mut mv.camera_uniforms),
     };
-    layers::substitutions(app, mv, &mut scratch.subs);
+    substitute::substitutions(app, mv, &mut scratch.subs);
     replay(gl, app, mv, group, layout, &mut scratch, &f);
     mv.substitutions = scratch.subs;
     mv.camera_uniforms = scratch.camera_uniforms;
@@ -69,11 +70,11 @@ fn replay(
     unscale_for_program(gl, app, mv, &mut scratch.subs);
     if app.draw_fbo == 0 && mv.plan.before_default_draw(shift.camera() || !scratch.subs.is_empty()) {
         // The views are complete up to here; what follows (a HUD) is drawn in every view.
-        super::synthesis::warp(gl, mv);
+        crate::multiview::fast::synthesis::warp(gl, mv);
     }
     if mv.scene.tracker.draw(app.draw_fbo, shift.camera(), app.viewport) {
         // The scene's depth is about to be drawn over: auto-convergence copies it first.
-        super::convergence::take_depth(gl, app, mv);
+        crate::multiview::scene::convergence::take_depth(gl, app, mv);
     }
     if matches!(shift, Shift::Uniform { .. }) {
         set_remap_uniform(gl, app, mv);
@@ -96,7 +97,7 @@ fn replay(
     let set_view = |mv: &Multiview, i: u32| {
         // After the warp point a synthesised view samples its nearest rendered view's layer.
         let layer = if mv.plan.renders(i) { i } else { mv.plan.nearest(i) };
-        layers::bind_layers(gl, app, subs, Some(layer as usize));
+        substitute::bind_layers(gl, app, subs, Some(layer as usize));
         screen_space::set(gl, app, mv, camera_uniforms, Some(i));
         match shift {
             Shift::Uniform { loc, mode, .. } => set_view_uniform(gl, app.program, mv, loc, i, mode),
@@ -133,13 +134,13 @@ fn replay(
         }
     } else {
         // An unshadowed target sampling layered textures sees the centre view's layer.
-        layers::bind_layers(gl, app, subs, Some(mv.camera.rig.centre() as usize));
+        substitute::bind_layers(gl, app, subs, Some(mv.camera.rig.centre() as usize));
         centre_uniform(gl, app, mv);
         f(SINGLE);
-        layers::bind_layers(gl, app, subs, None);
+        substitute::bind_layers(gl, app, subs, None);
         return;
     }
-    layers::bind_layers(gl, app, subs, None);
+    substitute::bind_layers(gl, app, subs, None);
     screen_space::set(gl, app, mv, camera_uniforms, None);
     if let Shift::Projection(p) = shift {
         load_projection(gl, &p, app_matrix_mode);
@@ -156,11 +157,11 @@ fn unscale_for_program(gl: &Gl, app: &AppState, mv: &mut Multiview, subs: &mut S
     let Some(why) = current_info(app).and_then(|p| p.pixel_addressing) else {
         return;
     };
-    if super::downscale::context_scale(mv).is_one() {
+    if crate::multiview::shadows::downscale::context_scale(mv).is_one() {
         return;
     }
-    if super::downscale::before_pixel_addressing(gl, mv, app.draw_fbo, subs, why) {
-        layers::substitutions(app, mv, subs);
+    if crate::multiview::shadows::downscale::before_pixel_addressing(gl, mv, app.draw_fbo, subs, why) {
+        substitute::substitutions(app, mv, subs);
     }
 }
 
@@ -221,7 +222,7 @@ fn set_remap_uniform(gl: &Gl, app: &AppState, mv: &Multiview) {
     let Some(info) = current_info(app).filter(|p| p.remap_loc >= 0) else {
         return;
     };
-    let value = super::comfort::remap_uniform(mv);
+    let value = crate::multiview::quilt::comfort::remap_uniform(mv);
     let held = info.remap_set.each_ref().map(|a| a.load(Ordering::Relaxed));
     if held == value.map(f32::to_bits) {
         return;
