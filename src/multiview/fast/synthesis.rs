@@ -115,10 +115,14 @@ pub fn capture_depth(gl: &Gl, mv: &mut Multiview) {
         .iter()
         .map(|&r| (depth_fbo(r), depth_rect(r)))
         .collect();
-    let format = {
-        let _guard = StateGuard::new(gl, mv.info).framebuffers();
-        depth_copy::describe(gl, mv.info, depths.first().map_or(quilt, |d| d.0))
-    };
+    let source = depths.first().map_or(quilt, |d| d.0);
+    let format = mv.scene.described(source).map_or_else(
+        || {
+            let _guard = StateGuard::new(gl, mv.info).framebuffers();
+            depth_copy::describe(gl, mv.info, source)
+        },
+        Ok,
+    );
     drop((depth_fbo, depth_rect));
     let Ok(format) =
         format.map_err(|e| log::debug(format_args!("synthesis: the scene's depth is not captured early: {e}")))

@@ -46,6 +46,12 @@ impl SceneDepth {
         self.copy.shared_objects()
     }
 
+    /// The depth format of `fbo` as asked of GL at the last swap, if the copies come from it:
+    /// the synthesis' own copy of the same depth need not ask again.
+    pub fn described(&self, fbo: u32) -> Option<SourceFormat> {
+        self.described.filter(|d| d.0 == fbo).map(|d| d.1)
+    }
+
     /// Our framebuffers and vertex arrays (per context).
     pub fn context_objects(&self) -> (usize, usize) {
         self.copy.context_objects()
