@@ -8,6 +8,7 @@
 //! auto-convergence, and to tell orthographic draws (HUDs) from perspective ones. The comfort
 //! remap (`comfort`) bends that disparity where the display cannot show it sharply.
 
+pub mod attached;
 pub mod comfort;
 pub mod convergence;
 pub mod estimate;

@@ -81,6 +81,8 @@ pub static OPTIONS: &[OptDef] = &[
         |v| super::comfort::dof(v).map(|_| ())),
     opt("comfort", "on|off", "off turns the depth remap, edge fade and depth of field all off (default on: what the options and device give)",
         |v| super::comfort::comfort(v).map(|_| ())),
+    opt("sky-at-infinity", "on|off", "draws attached to the camera (a sky box around the eye: a model-view with no translation) get the disparity of infinity (default on)",
+        |v| super::parse::switch(v).map(|_| ())),
     opt("fbo-views", "auto|all|none", "which of the program's own framebuffers get a layer per view: auto (view-dependent passes; default), all, none",
         |v| super::parse::fbo_views(v).map(|_| ())),
     opt("fbo-scale", "window|tile|F", "resolution of those layers: window (the program's own, default), tile (the window maps to the tile, never upscaled) or F in (0, 1] times the program's",

@@ -98,6 +98,8 @@ pub struct Multiview {
     pub camera_uniforms: Vec<screen_space::CameraUniform>,
     /// Per-view shears of the fixed-function projection and of the camera projection.
     pub sheared: shift::ShearedProjections,
+    /// The same at infinity, for draws attached to the camera (`camera::attached`).
+    pub sheared_far: shift::ShearedProjections,
     pub sheared_camera: shift::ShearedProjections,
     /// Where the main camera draws, and the copy of its depth auto-convergence reads.
     pub scene: convergence::SceneDepth,
@@ -144,6 +146,7 @@ impl Multiview {
             substitutions: Vec::new(),
             camera_uniforms: Vec::new(),
             sheared: Default::default(),
+            sheared_far: shift::ShearedProjections::at_infinity(),
             sheared_camera: Default::default(),
             scene: Default::default(),
             plan,

@@ -55,6 +55,9 @@ pub struct AppState {
     /// unknown until the next fixed-function draw asks GL.
     pub matrix_mode: Option<GLenum>,
     pub projection: Option<[f32; 16]>,
+    /// The fixed-function model-view, asked of GL by a perspective draw after it changed
+    /// (whether the draw is attached to the camera: `camera::attached`).
+    pub modelview: Option<[f32; 16]>,
     /// What the layer knows of the current program (not app-visible: see `program`).
     pub current: ProgramSnapshot,
     /// The display list being compiled: its name, mode, and what its calls do to shadowed
@@ -73,8 +76,9 @@ pub enum ListEffect {
     /// Changes the matrix of the current mode (`glRotate`, `glLoadIdentity`…): the projection
     /// only if the mode is GL_PROJECTION when the list is called.
     CurrentMatrix,
-    /// Changes the projection whatever the mode (direct-state-access calls naming it).
-    Projection,
+    /// Changes the projection or the model-view whatever the mode (direct-state-access calls
+    /// naming one of them).
+    NamedMatrix,
     /// Anything (the matrix mode, the shadowed enables, `glPopAttrib`, other lists).
     Anything,
 }
@@ -107,6 +111,7 @@ impl AppState {
             rasterizer_discard: None,
             matrix_mode: None,
             projection: None,
+            modelview: None,
             current: ProgramSnapshot::default(),
             list: None,
             lists: HashMap::new(),
@@ -147,7 +152,10 @@ impl AppState {
         self.shadowed_call(effect, |app| match effect {
             ListEffect::Nothing => {}
             ListEffect::CurrentMatrix => app.matrix_changed(None),
-            ListEffect::Projection => app.projection = None,
+            ListEffect::NamedMatrix => {
+                app.projection = None;
+                app.modelview = None;
+            }
             ListEffect::Anything => app.forget_shadowed(),
         });
     }
@@ -219,10 +227,35 @@ impl AppState {
         })
     }
 
-    /// A matrix call in mode `mode` (None: the current one): the projection may have changed.
+    /// The fixed-function model-view matrix, asked of GL only when unknown.
+    pub fn fixed_modelview(&mut self, gl: &Gl) -> [f32; 16] {
+        *self.modelview.get_or_insert_with(|| {
+            crate::log::costs::gl_query();
+            let mut m = [0f32; 16];
+            // SAFETY: a 16-float query into a local array (compatibility contexts).
+            unsafe { gl.GetFloatv(crate::gl::MODELVIEW_MATRIX, m.as_mut_ptr()) };
+            m
+        })
+    }
+
+    /// Whether depth writes are on, asked of GL (only for the rare draw that needs it).
+    pub fn depth_writes(&self, gl: &Gl) -> bool {
+        crate::log::costs::gl_query();
+        let mut b = 0u8;
+        // SAFETY: a one-boolean query into a local.
+        unsafe { gl.GetBooleanv(crate::gl::DEPTH_WRITEMASK, &mut b) };
+        b != 0
+    }
+
+    /// A matrix call in mode `mode` (None: the current one): the projection or the
+    /// model-view may have changed.
     pub fn matrix_changed(&mut self, mode: Option<GLenum>) {
-        if mode.or(self.matrix_mode).is_none_or(|m| m == crate::gl::PROJECTION) {
+        let mode = mode.or(self.matrix_mode);
+        if mode.is_none_or(|m| m == crate::gl::PROJECTION) {
             self.projection = None;
+        }
+        if mode.is_none_or(|m| m == crate::gl::MODELVIEW) {
+            self.modelview = None;
         }
     }
 
@@ -233,6 +266,7 @@ impl AppState {
         self.rasterizer_discard = None;
         self.matrix_mode = None;
         self.projection = None;
+        self.modelview = None;
     }
 }
 
@@ -264,6 +298,7 @@ mod tests {
             rasterizer_discard: Some(false),
             matrix_mode: Some(MODELVIEW),
             projection: Some([1.0; 16]),
+            modelview: Some([1.0; 16]),
             current: ProgramSnapshot::default(),
             list: None,
             lists: HashMap::new(),

@@ -12,6 +12,7 @@ mod util;
 
 mod auto_mode;
 mod bad_input;
+mod camera_attached;
 mod comfort;
 mod convergence;
 mod device_window;

@@ -132,6 +132,7 @@ sample_app_tests! {
     legacy_glx: "legacy", "glx";
     legacy_egl: "legacy", "egl";
     legacy_osmesa: "legacy", "osmesa";
+    legacy_sky_osmesa: "legacy --sky", "osmesa";
     asteroids_glx: "asteroids", "glx";
     asteroids_egl: "asteroids", "egl";
     asteroids_osmesa: "asteroids", "osmesa";

@@ -87,7 +87,7 @@ fn replay(
             ),
         );
     }
-    let fixed = matches!(shift, Shift::Projection(_));
+    let fixed = matches!(shift, Shift::Projection { .. });
     let app_matrix_mode = fixed.then(|| app.matrix_mode(gl));
     let scissored = app.enabled(gl, SCISSOR_TEST);
     let app: &AppState = app;
@@ -101,7 +101,10 @@ fn replay(
         screen_space::set(gl, app, mv, camera_uniforms, Some(i));
         match shift {
             Shift::Uniform { loc, mode, .. } => set_view_uniform(gl, app.program, mv, loc, i, mode),
-            Shift::Projection(p) => load_projection(gl, &mv.sheared.get(&mv.camera.rig, &p, i), app_matrix_mode),
+            Shift::Projection { p, infinity } => {
+                let sheared = if infinity { &mv.sheared_far } else { &mv.sheared };
+                load_projection(gl, &sheared.get(&mv.camera.rig, &p, i), app_matrix_mode)
+            }
             Shift::None => {}
         }
     };
@@ -142,7 +145,7 @@ fn replay(
     }
     substitute::bind_layers(gl, app, subs, None);
     screen_space::set(gl, app, mv, camera_uniforms, None);
-    if let Shift::Projection(p) = shift {
+    if let Shift::Projection { p, .. } = shift {
         load_projection(gl, &p, app_matrix_mode);
     }
     if let (Shift::Uniform { .. }, Some(info)) = (shift, current_info(app)) {
@@ -241,7 +244,7 @@ fn set_remap_uniform(gl: &Gl, app: &AppState, mv: &Multiview) {
 }
 
 fn fixed_remap_skipped(shift: &Shift, mv: &Multiview) -> bool {
-    matches!(shift, Shift::Projection(_)) && mv.settings.comfort.remap.is_some()
+    matches!(shift, Shift::Projection { .. }) && mv.settings.comfort.remap.is_some()
 }
 
 /// Puts the centre view into the current program's view uniform, unless it holds it already.

@@ -17,8 +17,9 @@ pub enum Shift {
     /// `glsl-patches/view_shift.glsl`); `camera`: the draw is seen through the main camera
     /// (not a full-screen pass with positions given in NDC).
     Uniform { loc: i32, mode: ViewMode, camera: bool },
-    /// Fixed function: the app's projection, sheared per view.
-    Projection([f32; 16]),
+    /// Fixed function: the app's projection, sheared per view; `infinity`: the draw is
+    /// attached to the camera (`camera::attached`) and gets the shift of infinity.
+    Projection { p: [f32; 16], infinity: bool },
     /// Nothing view-dependent (orthographic fixed function, or a program we left alone).
     None,
 }
@@ -28,7 +29,7 @@ impl Shift {
     pub fn camera(&self) -> bool {
         match self {
             Shift::Uniform { mode, camera, .. } => *camera && *mode != ViewMode::Orthographic,
-            Shift::Projection(_) => true,
+            Shift::Projection { .. } => true,
             Shift::None => false,
         }
     }
@@ -45,10 +46,11 @@ pub fn of(gl: &Gl, app: &mut AppState, mv: &mut Multiview, group: &ShareGroup) -
         let p = app.fixed_projection(gl);
         return match mode_of(program, Some(p), mv) {
             m if m.is_perspective() => {
-                if let Some(r) = mv.reuse.as_mut() {
+                let infinity = fixed_attached(gl, app, mv);
+                if let Some(r) = mv.reuse.as_mut().filter(|_| !infinity) {
                     r.camera.see(0, &[], &[]);
                 }
-                Shift::Projection(p)
+                Shift::Projection { p, infinity }
             }
             _ => Shift::None,
         };
@@ -77,6 +79,27 @@ pub fn of(gl: &Gl, app: &mut AppState, mv: &mut Multiview, group: &ShareGroup) -
         mode,
         camera: !info.identity,
     }
+}
+
+/// Whether a fixed-function draw is attached to the camera (`camera::attached`): asked of
+/// the shadowed model-view, so GL is asked only after the model-view changed.
+fn fixed_attached(gl: &Gl, app: &mut AppState, mv: &Multiview) -> bool {
+    if !mv.settings.sky_at_infinity {
+        return false;
+    }
+    let modelview = app.fixed_modelview(gl);
+    let attached = crate::camera::attached::camera_attached(&modelview, || app.depth_writes(gl));
+    if attached {
+        crate::log::once_for(
+            ("camera-attached", 0),
+            crate::log::Level::Info,
+            format_args!(
+                "fixed function: draws under the camera's rotation alone (a sky around the eye) are \
+                 put at infinity (--sky-at-infinity off keeps them at their depth)"
+            ),
+        );
+    }
+    attached
 }
 
 /// A block-held projection, read again only when a buffer that can reach a uniform binding
@@ -167,12 +190,22 @@ pub struct ShearedProjections(std::cell::RefCell<Sheared>);
 
 #[derive(Default)]
 struct Sheared {
+    /// Shears of infinity (`x += k w`: no convergence term), for camera-attached draws.
+    infinity: bool,
     source: Option<([f32; 16], [u64; 4])>,
     /// Per view: the shear and its inverse (for passes that un-project), both made in f64.
     views: Vec<([f32; 16], [f32; 16])>,
 }
 
 impl ShearedProjections {
+    /// The shears that put everything at infinity.
+    pub fn at_infinity() -> ShearedProjections {
+        ShearedProjections(std::cell::RefCell::new(Sheared {
+            infinity: true,
+            ..Default::default()
+        }))
+    }
+
     /// View `i`'s shear of `p`.
     pub fn get(&self, rig: &crate::camera::ViewRig, p: &[f32; 16], i: u32) -> [f32; 16] {
         self.both(rig, p, i).0
@@ -196,6 +229,10 @@ impl ShearedProjections {
         );
         if s.source != Some(key) {
             let p64 = p.map(f64::from);
+            let rig = crate::camera::ViewRig {
+                convergence: if s.infinity { 0.0 } else { rig.convergence },
+                ..*rig
+            };
             s.views.clear();
             s.views.extend((0..rig.views).map(|v| {
                 let m = rig.shear(v, &p64);

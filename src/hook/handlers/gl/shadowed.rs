@@ -55,7 +55,7 @@ pub(crate) fn matrix_changed(mode: Option<GLenum>) {
     if shadowing() {
         let effect = match mode {
             None => ListEffect::CurrentMatrix,
-            Some(crate::gl::PROJECTION) => ListEffect::Projection,
+            Some(crate::gl::PROJECTION | crate::gl::MODELVIEW) => ListEffect::NamedMatrix,
             Some(_) => ListEffect::Nothing,
         };
         crate::state::with_app(|app| app.shadowed_call(effect, |app| app.matrix_changed(mode)));

@@ -1,6 +1,9 @@
 //! `legacy`: OpenGL 1.x fixed-function app (compat context): glFrustum,
 //! immediate mode, nested display lists, client vertex arrays with texgen, fog, lighting,
-//! a `GL_SELECT` picking pass, and a glOrtho HUD with `glBitmap` text.
+//! a `GL_SELECT` picking pass, and a glOrtho HUD with `glBitmap` text. `--sky` adds a sky box
+//! drawn around the eye first, as fixed-function racing games draw theirs: a unit cube under
+//! the camera's rotation alone (no translation), depth writes off; the reference quilt draws
+//! it at infinity (`View::projection_at_infinity`), where a viewer expects a sky.
 use holoapps::cli::{AppInfo, Options};
 use holoapps::gl::{self, Gl};
 use holoapps::legacy_extras::{self, Extras};
@@ -17,6 +20,7 @@ struct Legacy {
     /// Outer list; it calls the inner `pyramid` list several times.
     cluster: u32,
     extras: Extras,
+    sky: bool,
 }
 
 unsafe fn pyramid(gl: &Gl) {
@@ -39,7 +43,7 @@ unsafe fn pyramid(gl: &Gl) {
 }
 
 impl Legacy {
-    fn new(gl: &Gl) -> Result<Self, String> {
+    fn new(gl: &Gl, sky: bool) -> Result<Self, String> {
         unsafe {
             let base = gl.GenLists(2);
             if base == 0 {
@@ -63,6 +67,7 @@ impl Legacy {
             Ok(Legacy {
                 cluster: base + 1,
                 extras: Extras::new(gl),
+                sky,
             })
         }
     }
@@ -88,11 +93,69 @@ impl Legacy {
         }
     }
 
+    /// The camera's pitch, the rotation the sky box shares with the world.
+    fn pitch() -> f32 {
+        EYE_Y.atan2(EYE_Z).to_degrees()
+    }
+
+    /// A sky box around the eye: each face a 16x16 checker of two blues graded by height, so
+    /// that every part of it has texture to be found again in another view.
+    unsafe fn sky(gl: &Gl, v: &View) {
+        unsafe {
+            gl.MatrixMode(gl::PROJECTION);
+            gl.LoadIdentity();
+            Self::frustum(gl, v.aspect());
+            if v.shear.is_some() {
+                let mut p = [0f32; 16];
+                gl.GetFloatv(gl::PROJECTION_MATRIX, p.as_mut_ptr());
+                gl.LoadMatrixf(v.projection_at_infinity(p).as_ptr());
+            }
+            gl.MatrixMode(gl::MODELVIEW);
+            gl.LoadIdentity();
+            gl.Rotatef(Self::pitch(), 1.0, 0.0, 0.0);
+            gl.Disable(gl::LIGHTING);
+            gl.Disable(gl::FOG);
+            gl.Enable(gl::DEPTH_TEST);
+            gl.DepthMask(gl::FALSE);
+            gl.Begin(gl::QUADS);
+            // Faces as (origin, u axis, v axis) of the cube [-1, 1]^3.
+            let faces: [([f32; 3], [f32; 3], [f32; 3]); 6] = [
+                ([-1.0, -1.0, -1.0], [2.0, 0.0, 0.0], [0.0, 2.0, 0.0]),
+                ([1.0, -1.0, 1.0], [-2.0, 0.0, 0.0], [0.0, 2.0, 0.0]),
+                ([-1.0, -1.0, 1.0], [0.0, 0.0, -2.0], [0.0, 2.0, 0.0]),
+                ([1.0, -1.0, -1.0], [0.0, 0.0, 2.0], [0.0, 2.0, 0.0]),
+                ([-1.0, 1.0, -1.0], [2.0, 0.0, 0.0], [0.0, 0.0, 2.0]),
+                ([-1.0, -1.0, 1.0], [2.0, 0.0, 0.0], [0.0, 0.0, -2.0]),
+            ];
+            const N: usize = 16;
+            for (o, a, b) in faces {
+                for i in 0..N {
+                    for j in 0..N {
+                        let at = |di: usize, dj: usize| {
+                            let (s, t) = ((i + di) as f32 / N as f32, (j + dj) as f32 / N as f32);
+                            [0, 1, 2].map(|k| o[k] + a[k] * s + b[k] * t)
+                        };
+                        let corner = at(0, 0);
+                        let light = if (i + j) % 2 == 0 { 0.85 } else { 0.6 };
+                        let height = 0.5 + 0.5 * corner[1];
+                        gl.Color3f(0.3 * light, (0.5 + 0.3 * height) * light, light);
+                        for (di, dj) in [(0, 0), (1, 0), (1, 1), (0, 1)] {
+                            let p = at(di, dj);
+                            gl.Vertex3f(p[0], p[1], p[2]);
+                        }
+                    }
+                }
+            }
+            gl.End();
+            gl.DepthMask(gl::TRUE);
+        }
+    }
+
     unsafe fn setup_world(gl: &Gl) {
         unsafe {
             gl.MatrixMode(gl::MODELVIEW);
             gl.LoadIdentity();
-            gl.Rotatef(EYE_Y.atan2(EYE_Z).to_degrees(), 1.0, 0.0, 0.0);
+            gl.Rotatef(Self::pitch(), 1.0, 0.0, 0.0);
             gl.Translatef(0.0, -EYE_Y, -EYE_Z);
             gl.Enable(gl::DEPTH_TEST);
             gl.Enable(gl::LIGHTING);
@@ -171,6 +234,9 @@ impl Scene for Legacy {
             gl.Viewport(v.viewport[0], v.viewport[1], v.viewport[2], v.viewport[3]);
             gl.ClearColor(FOG[0], FOG[1], FOG[2], FOG[3]);
             gl.Clear(gl::COLOR_BUFFER_BIT | gl::DEPTH_BUFFER_BIT);
+            if self.sky {
+                Self::sky(gl, v);
+            }
             Self::projection(gl, v);
             Self::setup_world(gl);
             Self::floor(gl);
@@ -197,11 +263,14 @@ fn main() -> ExitCode {
         about: "OpenGL 1.x fixed-function scene: immediate mode, display lists, fog, lighting, glOrtho HUD",
         default_convergence: (EYE_Y * EYE_Y + EYE_Z * EYE_Z).sqrt(),
         extra: &[],
-        switches: &[],
+        switches: &[(
+            "sky",
+            "a sky box drawn around the eye before the scene, depth writes off",
+        )],
     };
     holoapps::run::main(
         &info,
         Profile::Legacy,
-        Box::new(|gl: &Gl, _: &Options| Ok(Box::new(Legacy::new(gl)?) as Box<dyn Scene>)),
+        Box::new(|gl: &Gl, o: &Options| Ok(Box::new(Legacy::new(gl, o.switches.contains("sky"))?) as Box<dyn Scene>)),
     )
 }
