@@ -13,33 +13,68 @@
 //! they keep: an identity rotation *and* depth writes on. A sky seen by a camera looking
 //! exactly down −z with depth writes on is the one case this gives up.
 
-/// Relative size of a translation that counts as none: model-view matrices are built in
-/// f32 from rotations, and a rotation's round-off leaves the translation exactly zero;
-/// anything an app translates by on purpose is many orders above this.
+/// Relative size of a translation that counts as none: matrices are built in f32 from
+/// rotations, and a rotation's round-off leaves the translation exactly zero; anything an
+/// app translates by on purpose is many orders above this.
 const NO_TRANSLATION: f64 = 1e-6;
 
-/// Whether a draw under `modelview` (column-major) is attached to the camera: no
-/// translation, and either a rotation of its own or no depth writes.
-pub fn camera_attached(modelview: &[f32; 16], depth_writes: impl FnOnce() -> bool) -> bool {
-    let m = modelview.map(f64::from);
-    if m.iter().any(|v| !v.is_finite()) {
+/// Whether a fixed-function draw under `projection` and `modelview` (column-major) is
+/// attached to the camera: its origin is the eye, and it has either a rotation of its own or
+/// no depth writes.
+pub fn camera_attached(projection: &[f32; 16], modelview: &[f32; 16], depth_writes: impl FnOnce() -> bool) -> bool {
+    origin_at_eye(&[*projection, *modelview]) && (!identity_rotation(&to_f64(modelview)) || !depth_writes())
+}
+
+/// Whether a shader draw whose `gl_Position` is the product of `chain` (column-major, in
+/// multiplication order) is attached to the camera: its origin is the eye and, when the
+/// projection's place in the chain is known, the model-view after it is a rotation of its
+/// own (an identity model-view is eye-space geometry: a program's depth writes do not tell
+/// its passes apart, so they are not asked).
+pub fn chain_attached(chain: &[[f32; 16]], projection: Option<usize>) -> bool {
+    if !origin_at_eye(chain) {
         return false;
     }
+    match projection {
+        Some(j) if j + 1 < chain.len() => !identity_rotation(&product(&chain[j + 1..])),
+        Some(_) => false,
+        None => true,
+    }
+}
+
+/// The draw's origin is the eye: `T·(0,0,0,1)`, the last column of the whole transform, has
+/// no x, y or w. Tested on the product rather than on the model-view alone, since programs
+/// also move the camera inside the projection matrix (xscreensaver's `gflux`: `glFrustum`
+/// then `glTranslatef(0, 0, -4)` in `GL_PROJECTION`), and `P·(0,0,0,1)` has no x, y or w
+/// for every perspective projection, off-centre, reversed or infinite.
+fn origin_at_eye(chain: &[[f32; 16]]) -> bool {
+    if chain.is_empty() {
+        return false;
+    }
+    let t = product(chain);
+    if t.iter().any(|v| !v.is_finite()) {
+        return false;
+    }
+    let scale = t[..12].iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let origin = t[12].abs().max(t[13].abs()).max(t[15].abs());
+    scale > 0.0 && origin <= NO_TRANSLATION * scale
+}
+
+fn to_f64(m: &[f32; 16]) -> [f64; 16] {
+    m.map(f64::from)
+}
+
+fn product(chain: &[[f32; 16]]) -> [f64; 16] {
+    use glam::DMat4;
+    chain
+        .iter()
+        .fold(DMat4::IDENTITY, |acc, m| acc * DMat4::from_cols_array(&to_f64(m)))
+        .to_cols_array()
+}
+
+fn identity_rotation(m: &[f64; 16]) -> bool {
     let scale = (0..3)
         .flat_map(|c| (0..3).map(move |r| m[c * 4 + r].abs()))
         .fold(0.0, f64::max);
-    let perspective_free = m[3] == 0.0 && m[7] == 0.0 && m[11] == 0.0 && m[15] != 0.0;
-    if scale == 0.0 || !perspective_free {
-        return false;
-    }
-    let translation = m[12].abs().max(m[13].abs()).max(m[14].abs()) / m[15].abs();
-    if translation > NO_TRANSLATION * scale {
-        return false;
-    }
-    !identity_rotation(&m, scale) || !depth_writes()
-}
-
-fn identity_rotation(m: &[f64; 16], scale: f64) -> bool {
     (0..3).all(|c| (0..3).all(|r| (m[c * 4 + r] - if c == r { scale } else { 0.0 }).abs() <= 1e-6 * scale))
 }
 
@@ -52,42 +87,100 @@ mod tests {
         m.to_cols_array()
     }
 
+    fn perspective() -> [f32; 16] {
+        cols(Mat4::perspective_rh_gl(1.0, 1.5, 0.1, 100.0))
+    }
+
     #[test]
     fn a_rotation_alone_is_attached_whatever_the_depth_writes() {
+        let p = perspective();
         let sky = cols(Mat4::from_rotation_x(0.4) * Mat4::from_rotation_y(1.3));
-        assert!(camera_attached(&sky, || true));
-        assert!(camera_attached(&sky, || false));
-        // Scaled (a dome drawn at radius 500) is still attached.
-        assert!(camera_attached(
-            &cols(Mat4::from_rotation_y(0.2) * Mat4::from_scale(Vec3::splat(500.0))),
-            || true
-        ));
+        assert!(camera_attached(&p, &sky, || true));
+        assert!(camera_attached(&p, &sky, || false));
+        // Scaled (a dome drawn at radius 500) is still attached, under any perspective.
+        let dome = cols(Mat4::from_rotation_y(0.2) * Mat4::from_scale(Vec3::splat(500.0)));
+        assert!(camera_attached(&p, &dome, || true));
+        let reversed_infinite = cols(Mat4::perspective_infinite_reverse_rh(0.5, 1.0, 1e-4));
+        assert!(camera_attached(&reversed_infinite, &dome, || true));
     }
 
     #[test]
     fn a_translated_draw_is_not_attached() {
+        let p = perspective();
         let world = cols(Mat4::from_rotation_x(0.4) * Mat4::from_translation(Vec3::new(0.0, -5.0, -12.0)));
-        assert!(!camera_attached(&world, || false));
+        assert!(!camera_attached(&p, &world, || false));
         // A small translation of a large scene is still a translation.
         let far = cols(Mat4::from_scale(Vec3::splat(1e4)) * Mat4::from_translation(Vec3::new(1e-3, 0.0, 0.0)));
-        assert!(!camera_attached(&far, || false));
+        assert!(!camera_attached(&p, &far, || false));
+    }
+
+    #[test]
+    fn a_camera_moved_inside_the_projection_is_not_the_eye() {
+        // gflux: glFrustum, then glTranslatef(0, 0, -4) on GL_PROJECTION; rotations alone in
+        // GL_MODELVIEW.
+        let (n, f) = (2.0, 6.0);
+        let frustum = Mat4::from_cols_array(&[
+            n,
+            0.0,
+            0.0,
+            0.0, //
+            0.0,
+            n / 0.8,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            -(f + n) / (f - n),
+            -1.0,
+            0.0,
+            0.0,
+            -2.0 * f * n / (f - n),
+            0.0,
+        ]);
+        let p = cols(frustum * Mat4::from_translation(Vec3::new(0.0, 0.0, -4.0)));
+        let spin = cols(Mat4::from_rotation_x(0.3) * Mat4::from_rotation_z(0.8));
+        assert!(!camera_attached(&p, &spin, || false));
     }
 
     #[test]
     fn eye_space_geometry_under_identity_is_scene_unless_it_writes_no_depth() {
-        let identity = cols(Mat4::IDENTITY);
-        assert!(!camera_attached(&identity, || true));
-        assert!(camera_attached(&identity, || false));
+        let (p, identity) = (perspective(), cols(Mat4::IDENTITY));
+        assert!(!camera_attached(&p, &identity, || true));
+        assert!(camera_attached(&p, &identity, || false));
+    }
+
+    #[test]
+    fn a_chain_is_attached_by_its_model_view() {
+        let p = perspective();
+        let sky_view = cols(Mat4::from_rotation_y(0.7) * Mat4::from_rotation_x(0.2));
+        let model = cols(Mat4::from_scale(Vec3::splat(50.0)));
+        assert!(chain_attached(&[p, sky_view, model], Some(0)));
+        let world_view = cols(Mat4::from_rotation_y(0.7) * Mat4::from_translation(Vec3::new(3.0, -2.0, 9.0)));
+        assert!(!chain_attached(&[p, world_view, model], Some(0)));
+        // Eye-space geometry under the projection alone.
+        assert!(!chain_attached(&[p], Some(0)));
+        assert!(!chain_attached(&[p, cols(Mat4::IDENTITY)], Some(0)));
+    }
+
+    #[test]
+    fn a_single_mvp_is_attached_when_its_last_column_has_no_x_y_or_w() {
+        let p = Mat4::from_cols_array(&perspective());
+        let sky = cols(p * Mat4::from_rotation_y(2.0));
+        assert!(chain_attached(&[sky], None));
+        let world = cols(p * Mat4::from_rotation_y(2.0) * Mat4::from_translation(Vec3::new(0.0, 0.0, -4.0)));
+        assert!(!chain_attached(&[world], None));
+        assert!(!chain_attached(&[], None));
     }
 
     #[test]
     fn degenerate_matrices_are_not_attached() {
-        assert!(!camera_attached(&[0.0; 16], || false));
+        let p = perspective();
+        assert!(!camera_attached(&p, &[0.0; 16], || false));
         let mut nan = cols(Mat4::IDENTITY);
         nan[0] = f32::NAN;
-        assert!(!camera_attached(&nan, || false));
-        let mut projective = cols(Mat4::from_rotation_y(0.3));
-        projective[11] = -1.0;
-        assert!(!camera_attached(&projective, || false));
+        assert!(!camera_attached(&p, &nan, || false));
+        assert!(!camera_attached(&[0.0; 16], &cols(Mat4::from_rotation_y(0.3)), || {
+            false
+        }));
     }
 }

@@ -100,7 +100,9 @@ fn replay(
         substitute::bind_layers(gl, app, subs, Some(layer as usize));
         screen_space::set(gl, app, mv, camera_uniforms, Some(i));
         match shift {
-            Shift::Uniform { loc, mode, .. } => set_view_uniform(gl, app.program, mv, loc, i, mode),
+            Shift::Uniform {
+                loc, mode, infinity, ..
+            } => set_view_uniform(gl, app.program, mv, loc, i, mode, infinity),
             Shift::Projection { p, infinity } => {
                 let sheared = if infinity { &mv.sheared_far } else { &mv.sheared };
                 load_projection(gl, &sheared.get(&mv.camera.rig, &p, i), app_matrix_mode)
@@ -206,8 +208,12 @@ fn current_info(app: &AppState) -> Option<&ProgramInfo> {
         .flatten()
 }
 
-fn set_view_uniform(gl: &Gl, program: u32, mv: &Multiview, loc: i32, i: u32, mode: ViewMode) {
-    let v = mv.camera.rig.params(i);
+fn set_view_uniform(gl: &Gl, program: u32, mv: &Multiview, loc: i32, i: u32, mode: ViewMode, infinity: bool) {
+    let mut v = mv.camera.rig.params(i);
+    if infinity {
+        // No convergence term: `x += k w` (view_shift.glsl reads c == 0 as parallax 1).
+        v.c = 0.0;
+    }
     // SAFETY: `loc` belongs to the program current in this context (ProgramUniform when
     // available, so separable pipelines work too).
     unsafe {
@@ -260,6 +266,7 @@ fn centre_uniform(gl: &Gl, app: &AppState, mv: &Multiview) {
             info.view_loc,
             mv.camera.rig.centre(),
             ViewMode::Unknown,
+            false,
         );
     }
 }

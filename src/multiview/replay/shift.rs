@@ -16,7 +16,13 @@ pub enum Shift {
     /// `holoinject_view` at this location, with the shader-side projection mode (see
     /// `glsl-patches/view_shift.glsl`); `camera`: the draw is seen through the main camera
     /// (not a full-screen pass with positions given in NDC).
-    Uniform { loc: i32, mode: ViewMode, camera: bool },
+    /// `infinity`: the draw is attached to the camera and gets the shift of infinity.
+    Uniform {
+        loc: i32,
+        mode: ViewMode,
+        camera: bool,
+        infinity: bool,
+    },
     /// Fixed function: the app's projection, sheared per view; `infinity`: the draw is
     /// attached to the camera (`camera::attached`) and gets the shift of infinity.
     Projection { p: [f32; 16], infinity: bool },
@@ -46,7 +52,7 @@ pub fn of(gl: &Gl, app: &mut AppState, mv: &mut Multiview, group: &ShareGroup) -
         let p = app.fixed_projection(gl);
         return match mode_of(program, Some(p), mv) {
             m if m.is_perspective() => {
-                let infinity = fixed_attached(gl, app, mv);
+                let infinity = fixed_attached(gl, app, mv, &p);
                 if let Some(r) = mv.reuse.as_mut().filter(|_| !infinity) {
                     r.camera.see(0, &[], &[]);
                 }
@@ -67,8 +73,10 @@ pub fn of(gl: &Gl, app: &mut AppState, mv: &mut Multiview, group: &ShareGroup) -
         info.projection_ubo.and_then(|m| ubo_projection(gl, app, program, m))
     };
     let mode = mode_of(program, matrix, mv);
+    let infinity = mode.is_perspective() && !info.identity && program_attached(gl, app, mv, group, &info);
     if mode.is_perspective()
         && !info.identity
+        && !infinity
         && let Some(r) = mv.reuse.as_mut()
     {
         let values = &app.current.current(group, program).matrices;
@@ -78,17 +86,18 @@ pub fn of(gl: &Gl, app: &mut AppState, mv: &mut Multiview, group: &ShareGroup) -
         loc: info.view_loc,
         mode,
         camera: !info.identity,
+        infinity,
     }
 }
 
 /// Whether a fixed-function draw is attached to the camera (`camera::attached`): asked of
 /// the shadowed model-view, so GL is asked only after the model-view changed.
-fn fixed_attached(gl: &Gl, app: &mut AppState, mv: &Multiview) -> bool {
+fn fixed_attached(gl: &Gl, app: &mut AppState, mv: &Multiview, projection: &[f32; 16]) -> bool {
     if !mv.settings.sky_at_infinity {
         return false;
     }
     let modelview = app.fixed_modelview(gl);
-    let attached = crate::camera::attached::camera_attached(&modelview, || app.depth_writes(gl));
+    let attached = crate::camera::attached::camera_attached(projection, &modelview, || app.depth_writes(gl));
     if attached {
         crate::log::once_for(
             ("camera-attached", 0),
@@ -96,6 +105,47 @@ fn fixed_attached(gl: &Gl, app: &mut AppState, mv: &Multiview) -> bool {
             format_args!(
                 "fixed function: draws under the camera's rotation alone (a sky around the eye) are \
                  put at infinity (--sky-at-infinity off keeps them at their depth)"
+            ),
+        );
+    }
+    attached
+}
+
+/// Whether a draw of `info`'s program is attached to the camera: by the fixed model-view
+/// for programs built on the compatibility matrices, else by its `gl_Position` chain.
+fn program_attached(
+    gl: &Gl,
+    app: &mut AppState,
+    mv: &Multiview,
+    group: &ShareGroup,
+    info: &crate::state::share::ProgramInfo,
+) -> bool {
+    if !mv.settings.sky_at_infinity {
+        return false;
+    }
+    let attached = if info.builtin_projection {
+        let (projection, modelview) = (app.fixed_projection(gl), app.fixed_modelview(gl));
+        crate::camera::attached::camera_attached(&projection, &modelview, || app.depth_writes(gl))
+    } else {
+        let values = &app.current.current(group, app.program).matrices;
+        let chain: Option<Vec<[f32; 16]>> = info
+            .camera_chain
+            .iter()
+            .map(|loc| values.iter().find(|(l, _)| l == loc).map(|(_, m)| *m))
+            .collect();
+        let projection = info
+            .projection_loc
+            .and_then(|p| info.camera_chain.iter().position(|&l| l == p));
+        chain.is_some_and(|c| crate::camera::attached::chain_attached(&c, projection))
+    };
+    if attached {
+        crate::log::once_for(
+            ("camera-attached", u64::from(app.program)),
+            crate::log::Level::Info,
+            format_args!(
+                "program {}: draws whose view has no translation (a sky around the eye) are put at \
+                 infinity (--sky-at-infinity off keeps them at their depth)",
+                app.program
             ),
         );
     }
