@@ -10,6 +10,7 @@ pub mod live;
 pub mod options;
 pub mod parse;
 pub mod preset;
+pub mod preset_files;
 pub mod preset_save;
 #[cfg(test)]
 mod tests_mutations;

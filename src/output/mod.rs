@@ -26,7 +26,6 @@ pub mod record;
 pub mod staging;
 pub mod timing;
 pub mod weave;
-pub mod xrandr;
 
 use crate::config::{Output, Settings};
 use crate::gl::Gl;
