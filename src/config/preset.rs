@@ -107,7 +107,7 @@ pub struct Chosen {
 }
 
 /// `--preset NAME|PATH` (`none` turns automatic selection off), found by
-/// [`preset_files::find_spec`].
+/// `preset_files::find_spec`.
 pub fn load_spec(spec: &str, env: &dyn Fn(&str) -> Option<String>) -> Result<Option<Chosen>, String> {
     let spec = spec.trim();
     let Some((source, text)) = preset_files::find_spec(spec, env)? else {

@@ -1,5 +1,6 @@
 //! The passes of the adaptive quad-grid warp (see the module comment of `synth`).
 
+use super::programs::Programs;
 use super::resources::{COMMAND_STRIDE, LEVELS, Resources, level_size};
 use super::{Job, Source};
 use crate::gl::GlInfo;
@@ -7,72 +8,11 @@ use crate::gl::guard::StateGuard;
 use crate::gl::*;
 use std::ffi::CString;
 
-const FULLSCREEN_VERT: &str = include_str!("../../glsl-patches/fullscreen.vert");
-const PARALLAX_FRAG: &str = include_str!("../../glsl-patches/synth_parallax.frag");
-const MINMAX_FRAG: &str = include_str!("../../glsl-patches/synth_minmax.frag");
-const GRID_COMMON: &str = include_str!("../../glsl-patches/synth_grid_common.glsl");
-const LEAVES_COMP: &str = include_str!("../../glsl-patches/synth_leaves.comp");
-const COLUMNS_COMP: &str = include_str!("../../glsl-patches/synth_columns.comp");
 /// Rows of a column segment (`SEGMENT` in synth_columns.comp).
 const COLUMN_SEGMENT: u32 = 32;
-const WARP_VERT: &str = include_str!("../../glsl-patches/synth_warp.vert");
-const WARP_FRAG: &str = include_str!("../../glsl-patches/synth_warp.frag");
 
 /// Window depth between a stretched (disocclusion) quad and the surface it lies on.
 const STRETCHED_BIAS: f32 = 1.0 / 16384.0;
-
-#[derive(Clone, Copy, Debug)]
-pub struct Programs {
-    parallax: u32,
-    minmax: u32,
-    leaves: u32,
-    columns: u32,
-    warp: u32,
-}
-
-/// A compute pass of the grid: `body` with the shared leaf code after its `#version` line.
-fn link_grid_pass(gl: &Gl, body: &str) -> Result<u32, String> {
-    let (version, rest) = body.split_once('\n').unwrap_or((body, ""));
-    crate::gl::program::link_compute(gl, &format!("{version}\n{GRID_COMMON}\n{rest}"))
-}
-
-impl Programs {
-    /// The parallax pass every warp uses, and with `grid` the quad grid's own passes (the
-    /// row and per-pixel warps do without them: four programs fewer to compile).
-    pub fn link(gl: &Gl, info: GlInfo, grid: bool) -> Result<Programs, String> {
-        let parallax_frag = crate::camera::comfort::with_glsl(PARALLAX_FRAG);
-        let link = |frag| crate::gl::program::link(gl, info, FULLSCREEN_VERT, frag);
-        let parallax = link(&parallax_frag).map_err(|e| format!("synthesis parallax pass: {e}"))?;
-        if !grid {
-            return Ok(Programs {
-                parallax,
-                minmax: 0,
-                leaves: 0,
-                columns: 0,
-                warp: 0,
-            });
-        }
-        Ok(Programs {
-            parallax,
-            minmax: link(MINMAX_FRAG).map_err(|e| format!("synthesis pyramid pass: {e}"))?,
-            leaves: link_grid_pass(gl, LEAVES_COMP).map_err(|e| format!("synthesis grid pass: {e}"))?,
-            columns: link_grid_pass(gl, COLUMNS_COMP).map_err(|e| format!("synthesis column pass: {e}"))?,
-            warp: crate::gl::program::link(gl, info, WARP_VERT, WARP_FRAG)
-                .map_err(|e| format!("synthesis warp pass: {e}"))?,
-        })
-    }
-
-    pub fn has_grid(&self) -> bool {
-        self.warp != 0
-    }
-
-    pub fn names(&self) -> Vec<u32> {
-        [self.parallax, self.minmax, self.leaves, self.columns, self.warp]
-            .into_iter()
-            .filter(|&p| p != 0)
-            .collect()
-    }
-}
 
 /// Everything the passes change, put back when dropped.
 pub fn guard(gl: &Gl, info: GlInfo) -> StateGuard<'_> {

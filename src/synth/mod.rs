@@ -22,6 +22,7 @@ pub mod disparity;
 mod grid;
 mod pixel;
 mod profile;
+mod programs;
 mod pull_push;
 pub mod reproject;
 mod resources;
@@ -88,7 +89,7 @@ fn delete_programs(gl: &Gl, names: &[u32]) {
 /// Per-context synthesis state: programs, working textures, a framebuffer and vertex array.
 #[derive(Default)]
 pub struct Synthesizer {
-    programs: Option<Result<grid::Programs, String>>,
+    programs: Option<Result<programs::Programs, String>>,
     row_programs: Option<Result<rows::RowPrograms, String>>,
     resources: Option<resources::Resources>,
     row_targets: Option<rows::RowTargets>,
@@ -119,7 +120,7 @@ impl Synthesizer {
                 if let Some(Ok(old)) = self.programs.take() {
                     delete_programs(gl, &old.names());
                 }
-                let p = grid::Programs::link(gl, info, grid);
+                let p = programs::Programs::link(gl, info, grid);
                 self.programs = Some(p.clone());
                 p?
             }
