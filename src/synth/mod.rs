@@ -20,6 +20,7 @@
 
 pub mod disparity;
 mod grid;
+mod pass;
 mod pixel;
 mod profile;
 mod programs;
@@ -29,7 +30,7 @@ mod resources;
 mod rows;
 
 pub use disparity::ParallaxModel;
-pub use grid::zero_to_one;
+pub use pass::zero_to_one;
 
 use crate::gl::GlInfo;
 use crate::gl::*;
@@ -137,12 +138,12 @@ impl Synthesizer {
         } else {
             None
         };
-        let _guard = grid::guard(gl, info);
+        let _guard = pass::guard(gl, info);
         crate::gl::guard::neutral_pass_state(gl, info);
         let captured = self.captured.take();
         let kept = self.prepare(gl, job.tile, job.sources.len(), job.depth_format, grid);
         let res = self.resources.as_ref().ok_or("no resources")?;
-        let pass = grid::Pass {
+        let pass = pass::Pass {
             gl,
             programs: &programs,
             res,
@@ -154,7 +155,7 @@ impl Synthesizer {
             return self.pixel.run(gl, info, &pass, job);
         }
         let Some(row_programs) = row_programs else {
-            return pass.run(job);
+            return grid::run(&pass, job);
         };
         let count = job.targets.len();
         let sources = job.sources.len();
@@ -213,12 +214,12 @@ impl Synthesizer {
         depth_format: GLenum,
         grid: bool,
     ) {
-        let _guard = grid::guard(gl, info);
+        let _guard = pass::guard(gl, info);
         crate::gl::guard::neutral_pass_state(gl, info);
         self.prepare(gl, tile, depths.len(), depth_format, grid);
         let Some(res) = self.resources.as_ref() else { return };
         for (j, &d) in depths.iter().enumerate() {
-            grid::copy_depth(gl, self.fbo, res, j, d, depth_format);
+            pass::copy_depth(gl, self.fbo, res, j, d, depth_format);
         }
         self.captured = Some((depths.len(), depth_format));
     }

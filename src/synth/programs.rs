@@ -4,7 +4,7 @@
 
 use crate::gl::{Gl, GlInfo};
 
-const FULLSCREEN_VERT: &str = include_str!("../../glsl-patches/fullscreen.vert");
+pub(super) const FULLSCREEN_VERT: &str = include_str!("../../glsl-patches/fullscreen.vert");
 const PARALLAX_FRAG: &str = include_str!("../../glsl-patches/synth_parallax.frag");
 const MINMAX_FRAG: &str = include_str!("../../glsl-patches/synth_minmax.frag");
 const GRID_COMMON: &str = include_str!("../../glsl-patches/synth_grid_common.glsl");
