@@ -9,6 +9,10 @@ cargo fmt --all --check
 cargo clippy --workspace --release --locked -- -D warnings
 # The layering of DESIGN §2: the module graph must stay acyclic.
 scripts/module-graph.sh >/dev/null
+# The same one level down: no cycle between files, nor between a module's sub-modules.
+# --ignore multiview: src/multiview/ is being reorganised into sub-folders elsewhere; drop it
+# once that lands (its downscale <-> layers cycle is reported either way).
+python3 scripts/file-graph.py --ignore multiview >/dev/null
 cargo build --workspace --release --locked
 # -noreset: Xvfb otherwise resets whenever its last client disconnects, and a GLX test
 # starting during that reset fails with "cannot open X display" (seen in CI).
