@@ -9,6 +9,8 @@ cargo fmt --all --check
 cargo clippy --workspace --release --locked -- -D warnings
 # The layering of DESIGN §2: the module graph must stay acyclic.
 scripts/module-graph.sh >/dev/null
+# The same one level down: no cycle between files, nor between a module's sub-modules.
+python3 scripts/file-graph.py >/dev/null
 cargo build --workspace --release --locked
 # -noreset: Xvfb otherwise resets whenever its last client disconnects, and a GLX test
 # starting during that reset fails with "cannot open X display" (seen in CI).

@@ -6,18 +6,7 @@
 
 use super::rig::ViewRig;
 
-/// Column-major perspective projection; `far = None` is the infinite far plane;
-/// `reversed`: reversed-Z with [0,1] depth (z_ndc = near/w).
-pub fn perspective(fovy_deg: f64, aspect: f64, near: f64, far: Option<f64>, reversed: bool) -> [f64; 16] {
-    let t = 1.0 / (fovy_deg.to_radians() / 2.0).tan();
-    let (a, b) = match (far, reversed) {
-        (Some(f), false) => ((f + near) / (near - f), 2.0 * f * near / (near - f)),
-        (None, false) => (-1.0, -2.0 * near),
-        (Some(f), true) => (near / (f - near), f * near / (f - near)),
-        (None, true) => (0.0, near),
-    };
-    [t / aspect, 0., 0., 0., 0., t, 0., 0., 0., 0., a, -1., 0., 0., b, 0.]
-}
+pub use super::matrix::perspective;
 
 /// A rigid view: rotation about y by `yaw` degrees, then translation, then uniform scale.
 pub fn view(yaw_deg: f64, t: [f64; 3], scale: f64) -> [f64; 16] {

@@ -161,7 +161,7 @@ mod tests {
     use super::*;
 
     fn perspective(fovy: f64, aspect: f64, n: f64, f: f64) -> [f32; 16] {
-        crate::camera::precision::perspective(fovy, aspect, n, Some(f), false).map(|v| v as f32)
+        crate::camera::matrix::perspective(fovy, aspect, n, Some(f), false).map(|v| v as f32)
     }
 
     #[test]

@@ -136,7 +136,7 @@ mod tests {
     #[test]
     fn shear_matches_clip_shift() {
         // gluPerspective(60°, 4/3, 0.1, 100), column-major.
-        let p = crate::camera::precision::perspective(60.0, 4.0 / 3.0, 0.1, Some(100.0), false);
+        let p = crate::camera::matrix::perspective(60.0, 4.0 / 3.0, 0.1, Some(100.0), false);
         let r = ViewRig { focus: 0.01, ..rig(5) };
         let eye = [0.3, -0.2, -7.0, 1.0];
         let mul = |m: &[f64; 16]| -> [f64; 4] {

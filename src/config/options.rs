@@ -43,7 +43,7 @@ pub static OPTIONS: &[OptDef] = &[
     opt("weave-filter", "nearest|blend|gaussian:S", "how native output mixes views between lenticules (default blend)",
         |v| super::parse::weave_filter(v).map(|_| ())),
     opt("preset", "NAME|PATH|none", "per-application preset (TOML): a name in presets/ or ~/.config/holoinject/presets/, a file, or none; default: chosen by the program's name",
-        |v| super::preset::load_spec(v, &|k| std::env::var(k).ok()).map(|_| ())),
+        |v| super::preset_files::check_spec(v, &|k| std::env::var(k).ok())),
     opt("mode", "exact|synth|synth:pixel|hybrid:K[:pixel]|auto", "how views are made: exact re-renders every view (default); synth renders the centre and warps the rest; hybrid:K renders K and warps the rest from the two nearest; :pixel splats every pixel and fills holes by pull-push instead of warping a grid (the baseline)",
         |v| super::parse::mode(v).map(|_| ())),
     opt("frame-budget", "MS", "--mode auto: the frame time to meet, in ms (default 33.3); with another mode it is reported and ignored",

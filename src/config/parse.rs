@@ -1,6 +1,13 @@
-//! Value syntax shared by the launcher (flags) and the layer (environment).
+//! Value syntax shared by the launcher (flags) and the layer (environment). The options that
+//! name one of a few words have their parsers next to their types (`values`), re-exported
+//! here so every option's syntax is found in one place.
 
-use super::{Boundary, Convergence, FboScale, FboViews, FrameSet, Mode, Output, SynthWarp};
+use super::{Convergence, FrameSet, Mode};
+
+pub use super::values::{boundary, fbo_scale, fbo_views, output, present, preview, synth_warp, weave_filter};
+// The unit tests name these through `super::`, as they did when their parsers lived here.
+#[cfg(test)]
+use super::{FboScale, SynthWarp};
 
 pub fn grid(v: &str) -> Result<(u32, u32), String> {
     let (a, b) = v
@@ -123,26 +130,6 @@ pub fn synth_threshold(v: &str) -> Result<f64, String> {
     })
 }
 
-/// `--synth-warp`.
-pub fn synth_warp(v: &str) -> Result<SynthWarp, String> {
-    match v.trim() {
-        "rows" => Ok(SynthWarp::Rows),
-        "grid" => Ok(SynthWarp::Grid),
-        _ => Err(format!("`{v}`: expected rows or grid")),
-    }
-}
-
-pub fn output(v: &str) -> Result<Output, String> {
-    match v {
-        "mono" => Ok(Output::Mono),
-        "quilt" => Ok(Output::Quilt),
-        "sbs" => Ok(Output::SideBySide),
-        "anaglyph" => Ok(Output::Anaglyph),
-        "native" => Ok(Output::Native),
-        _ => Err(format!("`{v}`: expected native|quilt|sbs|anaglyph|mono")),
-    }
-}
-
 /// `--monitor`: a monitor by name, or a rectangle of the X screen given by hand.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum MonitorSpec {
@@ -192,59 +179,6 @@ fn offsets(s: &str) -> Option<(i32, i32)> {
     };
     (s.starts_with(['+', '-'])).then_some(())?;
     Some((one(&s[..split])?, one(&s[split..])?))
-}
-
-pub fn present(v: &str) -> Result<super::Present, String> {
-    match v.trim() {
-        "device" => Ok(super::Present::Device),
-        "window" => Ok(super::Present::Window),
-        _ => Err(format!("`{v}`: expected device|window")),
-    }
-}
-
-pub fn preview(v: &str) -> Result<super::Preview, String> {
-    match v.trim() {
-        "mono" => Ok(super::Preview::Mono),
-        "quilt" => Ok(super::Preview::Quilt),
-        "off" => Ok(super::Preview::Off),
-        _ => Err(format!("`{v}`: expected mono|quilt|off")),
-    }
-}
-
-pub fn weave_filter(v: &str) -> Result<super::WeaveFilter, String> {
-    use super::WeaveFilter as Filter;
-    match v.trim() {
-        "nearest" => Ok(Filter::Nearest),
-        "blend" => Ok(Filter::BlendNext),
-        g => match g.strip_prefix("gaussian:").map(str::parse::<f32>) {
-            Some(Ok(sigma)) if sigma > 0.0 && sigma <= 8.0 => Ok(Filter::Gaussian { sigma }),
-            _ => Err(format!(
-                "`{v}`: expected nearest|blend|gaussian:SIGMA (SIGMA in views, 0 < SIGMA <= 8)"
-            )),
-        },
-    }
-}
-
-pub fn fbo_views(v: &str) -> Result<FboViews, String> {
-    match v.trim() {
-        "auto" => Ok(FboViews::Auto),
-        "all" => Ok(FboViews::All),
-        "none" => Ok(FboViews::None),
-        _ => Err(format!("`{v}`: expected auto|all|none")),
-    }
-}
-
-/// `--fbo-scale`: `window`, `tile` or a factor in (0, 1] (layers are never larger than the
-/// app's framebuffers: upscaling would cost more than the program's own passes).
-pub fn fbo_scale(v: &str) -> Result<FboScale, String> {
-    match v.trim() {
-        "window" => Ok(FboScale::Window),
-        "tile" => Ok(FboScale::Tile),
-        f => match f.parse::<f64>() {
-            Ok(x) if x > 0.0 && x <= 1.0 => Ok(FboScale::Factor(x)),
-            _ => Err(format!("`{v}`: expected window|tile|F with 0 < F <= 1")),
-        },
-    }
 }
 
 pub fn view_cone(v: &str) -> Result<f64, String> {
@@ -319,14 +253,6 @@ pub fn frames(v: &str) -> Result<FrameSet, String> {
     let list: Result<Vec<u64>, String> = v.split(',').map(frame_number).collect();
     list.map(FrameSet::List)
         .map_err(|e| format!("{e}; expected a list like 1,10,30 or every:N"))
-}
-
-pub fn boundary(v: &str) -> Result<Boundary, String> {
-    match v.trim() {
-        "finish" => Ok(Boundary::Finish),
-        "flush" => Ok(Boundary::Flush),
-        _ => Err(format!("`{v}`: expected finish|flush")),
-    }
 }
 
 #[cfg(test)]

@@ -14,7 +14,10 @@
 //! whole. The program keeps running either way.
 
 use super::options::{self, OptDef};
-use std::path::{Path, PathBuf};
+use super::preset_files::{self, candidates};
+use std::path::Path;
+
+pub use super::preset_files::{bundled_names, bundled_text, user_dir};
 
 /// Options a preset may not set: choosing a preset, and launcher-only flags.
 const NOT_IN_PRESETS: &[&str] = &["preset", "log", "dry-run"];
@@ -35,34 +38,10 @@ impl Preset {
     }
 }
 
-macro_rules! bundled {
-    ($($name:literal),* $(,)?) => {
-        &[$(($name, include_str!(concat!("../../presets/", $name, ".toml")))),*]
-    };
-}
-
-/// Embedded so the layer needs no files at run time; tested programs only.
-const BUNDLED: &[(&str, &str)] = bundled!["glxgears", "es2gears", "glmark2", "chromium-bsu"];
-
-pub fn bundled_text(name: &str) -> Option<&'static str> {
-    BUNDLED.iter().find(|(n, _)| *n == name).map(|(_, t)| *t)
-}
-
-pub fn bundled_names() -> Vec<&'static str> {
-    BUNDLED.iter().map(|(n, _)| *n).collect()
-}
-
 /// Parses a preset file. `Err` is one line for a file that cannot be used at all; `Ok` comes
 /// with one line per field that was skipped.
 pub fn parse(text: &str, source: &str) -> Result<(Preset, Vec<String>), String> {
-    let table: toml::Table = text.parse().map_err(|e: toml::de::Error| {
-        let msg = e.message().trim().replace('\n', "; ");
-        let at = e
-            .span()
-            .map(|s| line_of(text, s.start))
-            .map_or(String::new(), |l| format!(" (line {l})"));
-        super::one_line(&format!("{source}{at}: not valid TOML: {msg}; preset ignored"))
-    })?;
+    let table = preset_files::table(text, source)?;
     let mut preset = Preset {
         source: source.to_string(),
         matches: vec![],
@@ -117,51 +96,6 @@ pub fn preset_keys() -> Vec<&'static str> {
         .collect()
 }
 
-fn line_of(text: &str, offset: usize) -> usize {
-    text.as_bytes()[..offset.min(text.len())]
-        .iter()
-        .filter(|&&b| b == b'\n')
-        .count()
-        + 1
-}
-
-/// The user's preset folder: `$XDG_CONFIG_HOME/holoinject/presets`, else
-/// `~/.config/holoinject/presets`. Its files win over bundled ones of the same name.
-pub fn user_dir(env: &dyn Fn(&str) -> Option<String>) -> Option<PathBuf> {
-    let base = env("XDG_CONFIG_HOME")
-        .filter(|d| d.starts_with('/'))
-        .map(PathBuf::from)
-        .or_else(|| {
-            env("HOME")
-                .filter(|h| h.starts_with('/'))
-                .map(|h| Path::new(&h).join(".config"))
-        })?;
-    Some(base.join("holoinject/presets"))
-}
-
-/// Every preset that could apply, as `(name, source, text)`: the user's first, then bundled.
-fn candidates(env: &dyn Fn(&str) -> Option<String>) -> Vec<(String, String, String)> {
-    let mut out = vec![];
-    if let Some(dir) = user_dir(env) {
-        let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
-            .map(|rd| rd.filter_map(|e| e.ok().map(|e| e.path())).collect())
-            .unwrap_or_default();
-        files.sort();
-        for path in files.into_iter().filter(|p| p.extension().is_some_and(|e| e == "toml")) {
-            if let (Some(stem), Ok(text)) = (
-                path.file_stem().and_then(|s| s.to_str()),
-                std::fs::read_to_string(&path),
-            ) {
-                out.push((stem.to_string(), path.display().to_string(), text));
-            }
-        }
-    }
-    for (name, text) in BUNDLED {
-        out.push((name.to_string(), format!("presets/{name}.toml"), text.to_string()));
-    }
-    out
-}
-
 /// What was chosen, for messages.
 #[derive(Debug, PartialEq)]
 pub struct Chosen {
@@ -172,37 +106,18 @@ pub struct Chosen {
     pub reason: String,
 }
 
-/// `--preset NAME|PATH` (`none` turns automatic selection off): a path when it contains '/'
-/// or ends in `.toml`, else a user or bundled preset of that name.
+/// `--preset NAME|PATH` (`none` turns automatic selection off), found by
+/// `preset_files::find_spec`.
 pub fn load_spec(spec: &str, env: &dyn Fn(&str) -> Option<String>) -> Result<Option<Chosen>, String> {
     let spec = spec.trim();
-    if spec == "none" {
+    let Some((source, text)) = preset_files::find_spec(spec, env)? else {
         return Ok(None);
-    }
-    let reason = format!("--preset {spec}");
-    if spec.contains('/') || spec.ends_with(".toml") {
-        let text = std::fs::read_to_string(spec).map_err(|e| format!("preset {spec}: {e}"))?;
-        let (preset, skipped) = parse(&text, spec)?;
-        return Ok(Some(Chosen {
-            preset,
-            skipped,
-            reason,
-        }));
-    }
-    let all = candidates(env);
-    let Some((_, source, text)) = all.iter().find(|(name, _, _)| name == spec) else {
-        let mut known: Vec<&str> = all.iter().map(|(n, _, _)| n.as_str()).collect();
-        known.dedup();
-        return Err(format!(
-            "unknown preset \"{spec}\" (known: {}; or a path to a .toml file)",
-            known.join(", ")
-        ));
     };
-    let (preset, skipped) = parse(text, source)?;
+    let (preset, skipped) = parse(&text, &source)?;
     Ok(Some(Chosen {
         preset,
         skipped,
-        reason,
+        reason: format!("--preset {spec}"),
     }))
 }
 
@@ -270,6 +185,7 @@ pub fn for_process(env: &dyn Fn(&str) -> Option<String>, report: &mut dyn FnMut(
 
 #[cfg(test)]
 mod tests {
+    use super::super::preset_files::BUNDLED;
     use super::*;
 
     fn no_env(_: &str) -> Option<String> {

@@ -6,6 +6,14 @@ use super::GlInfo;
 use super::*;
 use std::ffi::CString;
 
+/// The location of uniform `name` of our linked `program` (-1 when it has none: GL ignores
+/// uniform calls there, so an unused uniform the compiler dropped is no error).
+pub fn uniform(gl: &Gl, program: u32, name: &str) -> i32 {
+    let c = CString::new(name).unwrap_or_default();
+    // SAFETY: a NUL-terminated name for our linked program.
+    unsafe { gl.GetUniformLocation(program, c.as_ptr()) }
+}
+
 /// `source` (whose first line is its `#version`) for the context's API.
 pub fn for_context(source: &str, info: GlInfo) -> String {
     if !info.es {

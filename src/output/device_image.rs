@@ -4,6 +4,7 @@
 //! It costs a read-back and a copy to the server per frame, which a GLX program does not pay.
 
 use super::monitor::Rect;
+use super::x11::{panel_window, xlib};
 use std::os::raw::c_char;
 use x11_dl::xlib::{self, Xlib};
 
@@ -30,7 +31,7 @@ impl ImageWindow {
     /// An override-redirect window covering `rect` on `$DISPLAY`'s default screen, which must
     /// be 24-bit TrueColor.
     pub fn open(rect: Rect) -> Result<ImageWindow, String> {
-        let x = super::device_window::xlib()?;
+        let x = xlib()?;
         // SAFETY: a null name means $DISPLAY; the result is checked.
         let dpy = unsafe { (x.XOpenDisplay)(core::ptr::null()) };
         if dpy.is_null() {
@@ -47,7 +48,7 @@ impl ImageWindow {
                 (x.XCloseDisplay)(dpy);
                 return Err(format!("the X screen is {depth}-bit, not 24-bit TrueColor"));
             }
-            let window = super::device_window::panel_window(x, dpy, screen, (visual, depth, None), rect);
+            let window = panel_window(x, dpy, screen, (visual, depth, None), rect);
             let gc = (x.XCreateGC)(dpy, window, 0, core::ptr::null_mut());
             (x.XSync)(dpy, xlib::False);
             Ok(ImageWindow {

@@ -1,8 +1,9 @@
 //! The few real GLX calls the device window needs, found past our own hooks (`real`), so
 //! switching drawables is invisible to the layer's bookkeeping and to the frame count.
 
-use super::device_window::{DeviceWindow, xlib};
+use super::device_window::DeviceWindow;
 use super::monitor::Rect;
+use super::x11::xlib;
 use crate::real::{self, HookApi};
 use std::ffi::CStr;
 use std::os::raw::{c_int, c_void};

@@ -26,7 +26,7 @@ pub mod record;
 pub mod staging;
 pub mod timing;
 pub mod weave;
-pub mod xrandr;
+pub mod x11;
 
 use crate::config::{Output, Settings};
 use crate::gl::Gl;

@@ -14,7 +14,10 @@
 //! with (longest first) names the model. These names have not been checked against a real
 //! unit here: `--monitor NAME|WxH+X+Y` picks the monitor by hand when detection misses.
 //!
-//! This file is pure (parsing and choosing); `xrandr` asks the X server.
+//! This file is pure (parsing and choosing); its child `xrandr` asks the X server and
+//! builds [`Monitor`]s from the answer.
+
+pub mod xrandr;
 
 use crate::config::calibration::{DevicePreset, preset_names};
 use crate::config::parse::MonitorSpec;
@@ -166,7 +169,7 @@ pub fn find_looking_glass(monitors: &[Monitor]) -> Option<&Monitor> {
 
 /// The monitors of the X server `$DISPLAY` names (XRandR 1.5).
 pub fn detect() -> Result<Vec<Monitor>, String> {
-    super::xrandr::monitors()
+    xrandr::monitors()
 }
 
 #[cfg(test)]

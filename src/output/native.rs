@@ -19,16 +19,7 @@ pub struct NativeTarget {
 
 impl NativeTarget {
     fn create(gl: &Gl, size: (u32, u32)) -> NativeTarget {
-        let (mut fbo, mut color) = (0, 0);
-        // SAFETY: our own texture and framebuffer; the caller's guard restores bindings.
-        unsafe {
-            gl.GenTextures(1, &mut color);
-            gl.BindTexture(TEXTURE_2D, color);
-            gl.TexStorage2D(TEXTURE_2D, 1, RGBA8, size.0 as i32, size.1 as i32);
-            gl.GenFramebuffers(1, &mut fbo);
-            gl.BindFramebuffer(DRAW_FRAMEBUFFER, fbo);
-            gl.FramebufferTexture2D(DRAW_FRAMEBUFFER, COLOR_ATTACHMENT0, TEXTURE_2D, color, 0);
-        }
+        let (fbo, color) = pass::color_target(gl, RGBA8, size);
         NativeTarget { fbo, color, size }
     }
 }

@@ -3,7 +3,6 @@
 
 use crate::gl::GlInfo;
 use crate::gl::*;
-use std::ffi::CString;
 
 pub const FULLSCREEN_VERT: &str = include_str!("../../glsl-patches/fullscreen.vert");
 pub const LENTICULAR_FRAG: &str = include_str!("../../glsl-patches/lenticular.frag");
@@ -46,10 +45,23 @@ impl Passes {
     }
 }
 
-pub fn uniform(gl: &Gl, program: u32, name: &str) -> i32 {
-    let c = CString::new(name).unwrap_or_default();
-    // SAFETY: a NUL-terminated name for our linked program.
-    unsafe { gl.GetUniformLocation(program, c.as_ptr()) }
+pub use crate::gl::program::uniform;
+
+/// A colour texture of `format`, `size` pixels (one level), and a framebuffer drawing into
+/// it, as `(framebuffer, texture)`: what our passes draw into before the result is shown.
+/// Both are left bound, for the caller's guard to restore.
+pub fn color_target(gl: &Gl, format: GLenum, size: (u32, u32)) -> (u32, u32) {
+    let (mut fbo, mut color) = (0, 0);
+    // SAFETY: our own texture and framebuffer; the caller's guard restores the bindings.
+    unsafe {
+        gl.GenTextures(1, &mut color);
+        gl.BindTexture(TEXTURE_2D, color);
+        gl.TexStorage2D(TEXTURE_2D, 1, format, size.0 as i32, size.1 as i32);
+        gl.GenFramebuffers(1, &mut fbo);
+        gl.BindFramebuffer(DRAW_FRAMEBUFFER, fbo);
+        gl.FramebufferTexture2D(DRAW_FRAMEBUFFER, COLOR_ATTACHMENT0, TEXTURE_2D, color, 0);
+    }
+    (fbo, color)
 }
 
 /// Fixed-function state a full-screen pass of ours must not inherit from the app.

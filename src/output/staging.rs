@@ -38,17 +38,7 @@ impl Staging {
             *staging = None;
         }
         let s = staging.get_or_insert_with(|| {
-            let (mut fbo, mut color) = (0, 0);
-            // SAFETY: our own texture and framebuffer; the caller's guard restores the
-            // texture and framebuffer bindings.
-            unsafe {
-                gl.GenTextures(1, &mut color);
-                gl.BindTexture(TEXTURE_2D, color);
-                gl.TexStorage2D(TEXTURE_2D, 1, format, size.0 as i32, size.1 as i32);
-                gl.GenFramebuffers(1, &mut fbo);
-                gl.BindFramebuffer(DRAW_FRAMEBUFFER, fbo);
-                gl.FramebufferTexture2D(DRAW_FRAMEBUFFER, COLOR_ATTACHMENT0, TEXTURE_2D, color, 0);
-            }
+            let (fbo, color) = pass::color_target(gl, format, size);
             Staging {
                 fbo,
                 color,

@@ -5,32 +5,6 @@ use glsl_lang::parse::DefaultParse;
 
 use super::{Analysis, PositionKind, Stage, ast_walk, text, text_scan};
 
-/// What both analysers report about the `gl_Position` writes.
-#[derive(Clone, Debug, Default)]
-pub(super) struct Findings {
-    pub writes_position: bool,
-    pub writes_layer: bool,
-    pub kind: Option<PositionKind>,
-    pub matrices: Vec<String>,
-}
-
-impl Findings {
-    /// Merges one more `gl_Position` write: the kinds must agree, else `Unknown`.
-    pub fn add_write(&mut self, kind: PositionKind, matrices: &[String]) {
-        self.writes_position = true;
-        self.kind = Some(match self.kind.take() {
-            None => kind,
-            Some(prev) if prev == kind => prev,
-            Some(_) => PositionKind::Unknown,
-        });
-        for m in matrices {
-            if !self.matrices.contains(m) {
-                self.matrices.push(m.clone());
-            }
-        }
-    }
-}
-
 pub fn analyse(source: &str, stage: Stage) -> Analysis {
     let blanked = text::blank_comments(source);
     let version = text::version(&text::directives(&blanked)).map(|(v, _)| v);

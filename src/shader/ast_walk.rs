@@ -13,9 +13,9 @@ use glsl_lang::ast::{
 };
 
 use super::PositionKind;
-use super::analyse::Findings;
 use super::ast_symbols::{Program, Sym, is_mat4};
 use super::ast_values::{BUILTIN_MATRICES, Info, is_far_swizzle};
+use super::findings::Findings;
 
 pub fn walk(tu: &ast::TranslationUnit) -> Findings {
     let prog = Program::collect(tu);

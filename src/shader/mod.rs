@@ -36,6 +36,7 @@ mod analyse;
 mod ast_symbols;
 mod ast_values;
 mod ast_walk;
+mod findings;
 pub mod fragcoord;
 mod rewrite;
 #[cfg(test)]

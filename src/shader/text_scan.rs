@@ -5,8 +5,8 @@
 use std::collections::HashMap;
 
 use super::PositionKind;
-use super::analyse::Findings;
 use super::ast_values::{BUILTIN_MATRICES, is_far_swizzle};
+use super::findings::Findings;
 use super::text::{Token, tokens};
 
 const ASSIGN_OPS: [&str; 6] = ["=", "+=", "-=", "*=", "/=", "%="];

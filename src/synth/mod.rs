@@ -20,15 +20,17 @@
 
 pub mod disparity;
 mod grid;
+mod pass;
 mod pixel;
 mod profile;
+mod programs;
 mod pull_push;
 pub mod reproject;
 mod resources;
 mod rows;
 
 pub use disparity::ParallaxModel;
-pub use grid::zero_to_one;
+pub use pass::zero_to_one;
 
 use crate::gl::GlInfo;
 use crate::gl::*;
@@ -88,7 +90,7 @@ fn delete_programs(gl: &Gl, names: &[u32]) {
 /// Per-context synthesis state: programs, working textures, a framebuffer and vertex array.
 #[derive(Default)]
 pub struct Synthesizer {
-    programs: Option<Result<grid::Programs, String>>,
+    programs: Option<Result<programs::Programs, String>>,
     row_programs: Option<Result<rows::RowPrograms, String>>,
     resources: Option<resources::Resources>,
     row_targets: Option<rows::RowTargets>,
@@ -119,7 +121,7 @@ impl Synthesizer {
                 if let Some(Ok(old)) = self.programs.take() {
                     delete_programs(gl, &old.names());
                 }
-                let p = grid::Programs::link(gl, info, grid);
+                let p = programs::Programs::link(gl, info, grid);
                 self.programs = Some(p.clone());
                 p?
             }
@@ -136,12 +138,12 @@ impl Synthesizer {
         } else {
             None
         };
-        let _guard = grid::guard(gl, info);
+        let _guard = pass::guard(gl, info);
         crate::gl::guard::neutral_pass_state(gl, info);
         let captured = self.captured.take();
         let kept = self.prepare(gl, job.tile, job.sources.len(), job.depth_format, grid);
         let res = self.resources.as_ref().ok_or("no resources")?;
-        let pass = grid::Pass {
+        let pass = pass::Pass {
             gl,
             programs: &programs,
             res,
@@ -153,7 +155,7 @@ impl Synthesizer {
             return self.pixel.run(gl, info, &pass, job);
         }
         let Some(row_programs) = row_programs else {
-            return pass.run(job);
+            return grid::run(&pass, job);
         };
         let count = job.targets.len();
         let sources = job.sources.len();
@@ -212,12 +214,12 @@ impl Synthesizer {
         depth_format: GLenum,
         grid: bool,
     ) {
-        let _guard = grid::guard(gl, info);
+        let _guard = pass::guard(gl, info);
         crate::gl::guard::neutral_pass_state(gl, info);
         self.prepare(gl, tile, depths.len(), depth_format, grid);
         let Some(res) = self.resources.as_ref() else { return };
         for (j, &d) in depths.iter().enumerate() {
-            grid::copy_depth(gl, self.fbo, res, j, d, depth_format);
+            pass::copy_depth(gl, self.fbo, res, j, d, depth_format);
         }
         self.captured = Some((depths.len(), depth_format));
     }

@@ -11,10 +11,10 @@
 //! instead of six (measured in the README). Points bring their own state (size, and
 //! smoothing in compatibility contexts), which the guard saves and this pass neutralises.
 //!
-//! The sources are the grid's copies (`grid::Pass::copy_source`); the parallax is computed in
-//! the splat's vertex shader with the same arithmetic as the grid's parallax pass.
+//! The sources are the copies every warp makes (`pass::Pass::copy_source`); the parallax is
+//! computed in the splat's vertex shader with the same arithmetic as the parallax pass.
 
-use super::grid;
+use super::pass;
 use super::pull_push::Canvas;
 use super::{Job, Target};
 use crate::gl::GlInfo;
@@ -65,7 +65,7 @@ fn compatibility(gl: &Gl) -> bool {
 }
 
 /// One-pixel points whatever the app left set; no sampler object of the app's overriding our
-/// textures' filtering (the grid's guard restores units 0..5).
+/// textures' filtering (`pass::guard` restores units 0..5).
 fn neutral_point_state(gl: &Gl, compatibility: bool) {
     // SAFETY: state the guards restore; POINT_SMOOTH only where it exists.
     unsafe {
@@ -79,7 +79,7 @@ fn neutral_point_state(gl: &Gl, compatibility: bool) {
     }
 }
 
-/// What the per-pixel passes change beyond the grid's guard: the 2D texture units of the
+/// What the per-pixel passes change beyond `pass::guard`: the 2D texture units of the
 /// pyramid and the point state.
 fn guard(gl: &Gl, info: GlInfo, compatibility: bool) -> StateGuard<'_> {
     let g = StateGuard::new(gl, info)
@@ -89,14 +89,14 @@ fn guard(gl: &Gl, info: GlInfo, compatibility: bool) -> StateGuard<'_> {
 }
 
 impl PixelSynth {
-    /// Splats and fills every target of `job`, using the grid's source copies. The caller
-    /// holds the grid's guard and has set the neutral pass state.
-    pub fn run(&mut self, gl: &Gl, info: GlInfo, grid: &grid::Pass, job: &Job) -> Result<(), String> {
+    /// Splats and fills every target of `job`, using the shared source copies. The caller
+    /// holds `pass::guard` and has set the neutral pass state.
+    pub fn run(&mut self, gl: &Gl, info: GlInfo, pass: &pass::Pass, job: &Job) -> Result<(), String> {
         let programs = self.programs(gl, info)?;
         self.make_canvas(gl, job.tile);
         let canvas = self.canvas.as_ref().ok_or("no canvas")?;
         for (j, source) in job.sources.iter().enumerate() {
-            grid.copy_source(j, source, job)?;
+            pass.copy_source(j, source, job)?;
         }
         let compatibility = compatibility(gl);
         let _guard = guard(gl, info, compatibility);
@@ -105,8 +105,8 @@ impl PixelSynth {
             gl,
             program: programs.splat,
             fbo: self.fbos[0],
-            vao: grid.vao,
-            res: grid.res,
+            vao: pass.vao,
+            res: pass.res,
         };
         splat.prepare(job);
         let fill = super::pull_push::Fill {
@@ -114,7 +114,7 @@ impl PixelSynth {
             pull: programs.pull,
             push: programs.push,
             fbo: self.fbos[1],
-            vao: grid.vao,
+            vao: pass.vao,
             canvas,
         };
         fill.prepare();
@@ -177,7 +177,7 @@ impl Splat<'_> {
     /// Uniforms and bindings shared by every target.
     fn prepare(&self, job: &Job) {
         let (gl, p) = (self.gl, self.program);
-        let loc = |name| grid::loc(gl, p, name);
+        let loc = |name| pass::loc(gl, p, name);
         let m = job.model;
         let px = job.tile.0 as f64 / 2.0;
         // SAFETY: our program and textures; the guards restore bindings and uniforms are ours.
@@ -190,7 +190,7 @@ impl Splat<'_> {
             gl.Uniform3f(loc("u_model"), m.a_hi, m.a_lo, m.scale);
             let r = job.remap;
             gl.Uniform4f(loc("u_remap"), r[0], r[1], r[2], r[3]);
-            gl.Uniform1i(loc("u_zero_to_one"), grid::zero_to_one(gl) as i32);
+            gl.Uniform1i(loc("u_zero_to_one"), pass::zero_to_one(gl) as i32);
             gl.ActiveTexture(TEXTURE0);
             gl.BindTexture(TEXTURE_2D_ARRAY, self.res.color);
             gl.ActiveTexture(TEXTURE1);
@@ -220,8 +220,8 @@ impl Splat<'_> {
             gl.BindVertexArray(self.vao);
         }
         let (u_du, u_layer) = (
-            grid::loc(gl, self.program, "u_du"),
-            grid::loc(gl, self.program, "u_layer"),
+            pass::loc(gl, self.program, "u_du"),
+            pass::loc(gl, self.program, "u_layer"),
         );
         let second = (t.sources[1] != t.sources[0]).then_some(t.sources[1]);
         for j in second.into_iter().chain(std::iter::once(t.sources[0])) {

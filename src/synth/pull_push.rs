@@ -136,11 +136,11 @@ impl Fill<'_> {
         // SAFETY: uniforms of our own programs; the guard restores the current program.
         unsafe {
             gl.UseProgram(self.pull);
-            gl.Uniform1i(super::grid::loc(gl, self.pull, "u_src"), 2);
+            gl.Uniform1i(super::pass::loc(gl, self.pull, "u_src"), 2);
             gl.UseProgram(self.push);
-            gl.Uniform1i(super::grid::loc(gl, self.push, "u_own"), 2);
-            gl.Uniform1i(super::grid::loc(gl, self.push, "u_coarse"), 3);
-            gl.Uniform1i(super::grid::loc(gl, self.push, "u_depth"), 4);
+            gl.Uniform1i(super::pass::loc(gl, self.push, "u_own"), 2);
+            gl.Uniform1i(super::pass::loc(gl, self.push, "u_coarse"), 3);
+            gl.Uniform1i(super::pass::loc(gl, self.push, "u_depth"), 4);
         }
     }
 
@@ -179,8 +179,8 @@ impl Fill<'_> {
         // SAFETY: uniforms of our own program.
         unsafe {
             gl.UseProgram(p);
-            gl.Uniform2i(super::grid::loc(gl, p, "u_origin"), origin[0], origin[1]);
-            gl.Uniform1i(super::grid::loc(gl, p, "u_resolve"), resolve as i32);
+            gl.Uniform2i(super::pass::loc(gl, p, "u_origin"), origin[0], origin[1]);
+            gl.Uniform1i(super::pass::loc(gl, p, "u_resolve"), resolve as i32);
         }
     }
 

@@ -157,7 +157,7 @@ impl Reprojector {
 
     /// What every view shares: program, textures, marks, the depth model.
     fn prepare(&self, gl: &Gl, program: u32, job: &ReprojectJob) {
-        let loc = |n| super::grid::loc(gl, program, n);
+        let loc = |n| super::pass::loc(gl, program, n);
         let m = job.depth_model;
         // SAFETY: our program, textures and buffer; state restored by the guard. Alpha is
         // left as the synthesis wrote it, and so is depth (depth test and writes are off).
@@ -174,7 +174,7 @@ impl Reprojector {
             gl.Uniform1i(loc("u_flip"), job.flipped as i32);
             gl.Uniform2i(loc("u_tile"), job.tile.0, job.tile.1);
             gl.Uniform2f(loc("u_model"), m.a as f32, m.b as f32);
-            gl.Uniform1i(loc("u_zero_to_one"), super::grid::zero_to_one(gl) as i32);
+            gl.Uniform1i(loc("u_zero_to_one"), super::pass::zero_to_one(gl) as i32);
             gl.Uniform1f(loc("u_tolerance"), job.tolerance as f32);
             gl.BindBufferBase(SHADER_STORAGE_BUFFER, 4, job.marks);
         }
@@ -182,7 +182,7 @@ impl Reprojector {
 
     /// The kept pixels of `v` into the holes of its tile.
     fn fetch(&self, gl: &Gl, program: u32, job: &ReprojectJob, v: &MovedView) {
-        let loc = |n| super::grid::loc(gl, program, n);
+        let loc = |n| super::pass::loc(gl, program, n);
         let [x, y, w, h] = v.rect;
         let (back, offset) = (v.back.map(|x| x as f32), v.offset.map(|x| x as f32));
         // SAFETY: our program into the destination tile; state restored by the guard.

@@ -8,14 +8,14 @@
 //! rendering the view (measured on llvmpipe: README "Choosing a mode").
 
 use super::Job;
-use super::grid::{Pass, loc};
+use super::pass::{Pass, loc};
+use super::programs::FULLSCREEN_VERT;
 use crate::gl::GlInfo;
 use crate::gl::*;
 
 const ROWS_COMP: &str = include_str!("../../glsl-patches/synth_rows.comp");
 const PACK_COMP: &str = include_str!("../../glsl-patches/synth_pack.comp");
 const RESOLVE_FRAG: &str = include_str!("../../glsl-patches/synth_resolve.frag");
-const FULLSCREEN_VERT: &str = include_str!("../../glsl-patches/fullscreen.vert");
 /// Rows per work group (`local_size_x` of synth_rows.comp).
 const ROWS_PER_GROUP: u32 = 32;
 /// Window depth between a disocclusion fill and the surface it stretches.

@@ -4,7 +4,7 @@ use crate::gl::egl::types::{
     __eglMustCastToProperFunctionPointerType as EglProc, EGLBoolean, EGLConfig, EGLContext, EGLDisplay, EGLSurface,
     EGLint,
 };
-use crate::state::{Binding, Platform};
+use crate::state::Platform;
 use core::ffi::c_char;
 
 pub(crate) fn eglCreateContext(
@@ -30,14 +30,7 @@ pub(crate) fn eglMakeCurrent(
 ) -> EGLBoolean {
     let ok = real(dpy, draw, read, ctx);
     if ok != 0 {
-        let binding = Binding {
-            display: dpy as usize,
-            draw: draw as usize,
-            read: read as usize,
-            size: None,
-        };
-        crate::state::make_current(Platform::Egl, ctx as usize, binding);
-        crate::hook::layer::on_make_current();
+        super::surfaces_made_current(Platform::Egl, ctx as usize, dpy as usize, draw as usize, read as usize);
     }
     ok
 }

@@ -3,7 +3,7 @@
 use crate::gl::glx::types::{
     __GLXextFuncPtr, Bool, Display, GLXContext, GLXDrawable, GLXFBConfig, GLubyte, XVisualInfo,
 };
-use crate::state::{Binding, Platform};
+use crate::state::Platform;
 use core::ffi::c_int;
 
 fn created(ctx: GLXContext, dpy: *mut Display, share: GLXContext) -> GLXContext {
@@ -47,14 +47,7 @@ pub(crate) fn glXCreateContextAttribsARB(
 
 fn made_current(ok: Bool, dpy: *mut Display, draw: GLXDrawable, read: GLXDrawable, ctx: GLXContext) -> Bool {
     if ok != 0 {
-        let binding = Binding {
-            display: dpy as usize,
-            draw: draw as usize,
-            read: read as usize,
-            size: None,
-        };
-        crate::state::make_current(Platform::Glx, ctx as usize, binding);
-        crate::hook::layer::on_make_current();
+        super::surfaces_made_current(Platform::Glx, ctx as usize, dpy as usize, draw as usize, read as usize);
     }
     ok
 }

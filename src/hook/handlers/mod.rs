@@ -11,6 +11,7 @@
 //! takes slices and `&CStr`, never raw pointers.
 
 use crate::gl::types::GLsizei;
+use crate::state::{Binding, Platform};
 use core::ffi::{CStr, c_char, c_void};
 
 #[allow(non_snake_case)]
@@ -22,6 +23,25 @@ pub(crate) mod gl;
 pub(crate) mod glx;
 #[allow(non_snake_case)]
 pub(crate) mod osmesa;
+
+/// After a make-current that succeeded, on any platform: the context is tracked with what it
+/// is bound to, then the layer sets it up, which reads that binding.
+fn made_current(platform: Platform, ctx: usize, binding: Binding) {
+    crate::state::make_current(platform, ctx, binding);
+    crate::hook::layer::on_make_current();
+}
+
+/// A window-system make-current (GLX, EGL) that succeeded: bound to a display and its
+/// surfaces, whose size the platform does not say here.
+fn surfaces_made_current(platform: Platform, ctx: usize, display: usize, draw: usize, read: usize) {
+    let binding = Binding {
+        display,
+        draw,
+        read,
+        size: None,
+    };
+    made_current(platform, ctx, binding);
+}
 
 /// The `n` values an app passed at `p`; empty when `p` is null or `n` is not positive.
 ///

@@ -56,8 +56,7 @@ pub(crate) fn OSMesaMakeCurrent(
             read: buffer as usize,
             size,
         };
-        crate::state::make_current(Platform::Osmesa, ctx as usize, binding);
-        crate::hook::layer::on_make_current();
+        super::made_current(Platform::Osmesa, ctx as usize, binding);
     }
     ok
 }

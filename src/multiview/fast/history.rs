@@ -135,9 +135,9 @@ impl History {
             // SAFETY: our own linked program; the guard restores the current program.
             unsafe {
                 gl.UseProgram(h.program);
-                gl.Uniform1i(uniform(gl, h.program, c"u_now"), 0);
-                gl.Uniform1i(uniform(gl, h.program, c"u_kept"), 1);
-                h.origin_loc = uniform(gl, h.program, c"u_origin");
+                gl.Uniform1i(crate::gl::program::uniform(gl, h.program, "u_now"), 0);
+                gl.Uniform1i(crate::gl::program::uniform(gl, h.program, "u_kept"), 1);
+                h.origin_loc = crate::gl::program::uniform(gl, h.program, "u_origin");
             }
             Ok::<(), String>(())
         })();
@@ -289,11 +289,6 @@ fn storage_origin(l: QuiltLayout, v: u32) -> (i32, i32) {
     } else {
         (x, y)
     }
-}
-
-fn uniform(gl: &Gl, program: u32, name: &std::ffi::CStr) -> i32 {
-    // SAFETY: a NUL-terminated name and our own program.
-    unsafe { gl.GetUniformLocation(program, name.as_ptr()) }
 }
 
 /// One of the app's occlusion queries is running: ours cannot begin.

@@ -175,12 +175,6 @@ fn try_rewrite(
     true
 }
 
-fn uniform_location(gl: &Gl, program: u32, name: &str) -> i32 {
-    let Ok(c) = CString::new(name) else { return -1 };
-    // SAFETY: a NUL-terminated name for a linked program.
-    unsafe { gl.GetUniformLocation(program, c.as_ptr()) }
-}
-
 fn record(
     gl: &Gl,
     group: &ShareGroup,
@@ -190,8 +184,8 @@ fn record(
 ) {
     let (view_loc, remap_loc) = if rewritten {
         (
-            uniform_location(gl, program, shader::VIEW_UNIFORM),
-            uniform_location(gl, program, shader::REMAP_UNIFORM),
+            crate::gl::program::uniform(gl, program, shader::VIEW_UNIFORM),
+            crate::gl::program::uniform(gl, program, shader::REMAP_UNIFORM),
         )
     } else {
         (-1, -1)
@@ -204,7 +198,7 @@ fn record(
     let builtin = leftmost.is_some_and(|n| n.starts_with("gl_"));
     let projection_loc = leftmost
         .filter(|n| !n.starts_with("gl_"))
-        .map(|n| uniform_location(gl, program, n))
+        .map(|n| crate::gl::program::uniform(gl, program, n))
         .filter(|&l| l >= 0);
     let projection_ubo = leftmost
         .filter(|n| projection_loc.is_none() && !n.starts_with("gl_"))
@@ -216,7 +210,7 @@ fn record(
             if n.starts_with("gl_") {
                 -1
             } else {
-                uniform_location(gl, program, n)
+                crate::gl::program::uniform(gl, program, n)
             }
         })
         .collect();
@@ -225,7 +219,7 @@ fn record(
     } else {
         vec![]
     };
-    let fragcoord_loc = uniform_location(gl, program, shader::fragcoord::FRAGCOORD_UNIFORM);
+    let fragcoord_loc = crate::gl::program::uniform(gl, program, shader::fragcoord::FRAGCOORD_UNIFORM);
     if fragcoord_loc >= 0 {
         // SAFETY: our own uniform in the just-linked program: window coordinates unchanged.
         unsafe { gl.ProgramUniform4f(program, fragcoord_loc, 0.0, 0.0, 1.0, 1.0) };

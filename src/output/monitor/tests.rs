@@ -1,8 +1,8 @@
 //! Detection against recorded server answers: XRandR monitors as `XRRGetMonitors` lists them
 //! and EDID blocks built per known model by `scripts/make-edid.py`.
 
+use super::xrandr::{RawMonitor, from_raw};
 use super::*;
-use crate::output::xrandr::{RawMonitor, from_raw};
 
 macro_rules! edid {
     ($name:literal) => {

@@ -2,7 +2,7 @@
 //! libXrandr are opened with `dlopen` (`x11-dl`), so the layer loads in programs that never
 //! use X11 and fails here with one line when they are missing.
 
-use super::monitor::{Monitor, Rect, edid_monitor_name};
+use super::{Monitor, Rect, edid_monitor_name};
 use std::ffi::CStr;
 use std::os::raw::{c_int, c_uchar, c_ulong};
 use x11_dl::xlib::{self, Xlib};
