@@ -1,11 +1,10 @@
 //! Framebuffer 0 as the app sees it, standing on our quilt: bindings, draw/read buffers,
-//! `glGet*` answers, clears, reads and blits.
+//! `glGet*` answers (clears, reads and blits per view are `transfers`).
 
 use crate::gl::*;
 use crate::multiview::Multiview;
-use crate::multiview::quilt::layout::{QuiltLayout, intersect};
+use crate::multiview::quilt::layout::QuiltLayout;
 use crate::multiview::quilt::target::QuiltTarget;
-use crate::multiview::shadows::scale::LayerScale;
 use crate::state::AppState;
 
 /// Creates (or re-creates, when the window size changed) the quilt, and binds it wherever
@@ -147,7 +146,7 @@ fn hand_back_depth(gl: &Gl, info: crate::gl::GlInfo, t: &QuiltTarget, tile: [i32
     }
 }
 
-const ALL_BUFFERS: u32 = COLOR_BUFFER_BIT | DEPTH_BUFFER_BIT | STENCIL_BUFFER_BIT;
+pub(super) const ALL_BUFFERS: u32 = COLOR_BUFFER_BIT | DEPTH_BUFFER_BIT | STENCIL_BUFFER_BIT;
 
 /// `glBindFramebuffer(target, fbo)`: records the app's binding; returns the name GL gets.
 pub fn bind(mv: &Multiview, fbo: u32) -> u32 {
@@ -237,206 +236,4 @@ pub fn on_real_target<R>(
     let r = query();
     rebind(gl, app, mv);
     Some(r)
-}
-
-/// Clears every layer of a shadowed framebuffer of the app (the app's scissor box mapped
-/// into scaled layers).
-fn clear_layers(gl: &Gl, app: &mut AppState, mv: &mut Multiview, f: &impl Fn()) -> bool {
-    let Some(views) = crate::multiview::shadows::layers::current_views(gl, mv, app.draw_fbo) else {
-        return false;
-    };
-    let scale = mv.shadows.get(&app.draw_fbo).map_or(LayerScale::ONE, |s| s.scale);
-    let scissor = (!scale.is_one() && app.enabled(gl, SCISSOR_TEST)).then(|| scale.rect_out(app.scissor));
-    if let Some(r) = scissor {
-        // SAFETY: a scissor box; the app's is restored below.
-        unsafe { gl.Scissor(r[0], r[1], r[2], r[3]) };
-    }
-    for &view in views.iter() {
-        // SAFETY: our view framebuffer; the app's binding is restored below.
-        unsafe { gl.BindFramebuffer(DRAW_FRAMEBUFFER, view) };
-        f();
-    }
-    let s = app.scissor;
-    // SAFETY: the app's own framebuffer and scissor box back.
-    unsafe {
-        gl.BindFramebuffer(DRAW_FRAMEBUFFER, app.draw_fbo);
-        if scissor.is_some() {
-            gl.Scissor(s[0], s[1], s[2], s[3]);
-        }
-    }
-    true
-}
-
-/// Clears every tile (or the app's scissored part of each) while framebuffer 0 is bound, and
-/// every layer of a shadowed framebuffer.
-pub fn clear(gl: &Gl, app: &mut AppState, mv: &mut Multiview, f: impl Fn()) {
-    if clear_layers(gl, app, mv, &f) {
-        return;
-    }
-    let Some(layout) = mv.layout().filter(|_| mv.on_default_draw(app)) else {
-        return f();
-    };
-    if mv.plan.before_default_draw(false) {
-        crate::multiview::fast::synthesis::warp(gl, mv);
-    }
-    if !app.enabled(gl, SCISSOR_TEST) {
-        return f();
-    }
-    for i in 0..layout.views() {
-        let r = intersect(layout.map_rect(i, app.scissor), layout.tile_rect(i));
-        // SAFETY: a scissor box; the app's is restored after the loop.
-        unsafe { gl.Scissor(r[0], r[1], r[2], r[3]) };
-        f();
-    }
-    let s = app.scissor;
-    // SAFETY: the app's scissor box back.
-    unsafe { gl.Scissor(s[0], s[1], s[2], s[3]) };
-}
-
-/// Source rectangle of a read from framebuffer 0: the centre view's tile. A multisampled
-/// quilt cannot be read (a multisampled window can: GL resolves it first), so that rectangle
-/// is resolved and its resolved framebuffer bound for reading; `true` then in the answer:
-/// the caller rebinds (`rebind`) after the read.
-pub fn centre_rect(gl: &Gl, app: &AppState, mv: &Multiview, r: [i32; 4]) -> Option<([i32; 4], bool)> {
-    let target = mv
-        .target
-        .as_ref()
-        .filter(|_| app.read_fbo == 0 && mv.quilt_fbo().is_some())?;
-    let rect = target.layout.map_rect(mv.camera.rig.centre(), r);
-    if target.samples == 0 {
-        return Some((rect, false));
-    }
-    target.resolve(gl, mv.info, rect, ALL_BUFFERS);
-    // SAFETY: our resolved quilt for reading.
-    unsafe { gl.BindFramebuffer(READ_FRAMEBUFFER, target.resolved_fbo) };
-    Some((rect, true))
-}
-
-/// For a blit from framebuffer 0: a multisampled quilt is read resolved when its tiles are
-/// scaled (blits from multisampled buffers cannot scale, and the window's would not have
-/// to), and on ES, where they cannot move either (a tile is not where the window's pixels
-/// are); the caller rebinds.
-fn resolved_blit_source(gl: &Gl, app: &AppState, mv: &Multiview) {
-    let Some(t) = mv.target.as_ref().filter(|t| app.read_fbo == 0 && t.samples > 0) else {
-        return;
-    };
-    if !t.layout.unscaled() || mv.info.es {
-        t.resolve_all(gl, mv.info, ALL_BUFFERS);
-        // SAFETY: our resolved quilt for reading.
-        unsafe { gl.BindFramebuffer(READ_FRAMEBUFFER, t.resolved_fbo) };
-    }
-}
-
-/// `glBlitFramebuffer` between framebuffer 0 (tiles) and the app's framebuffers (layers when
-/// shadowed): view i reads view i's tile or layer and writes view i's; a view-dependent
-/// source makes its destination view-dependent too. A single-view end reads the centre.
-pub fn blit(gl: &Gl, app: &AppState, mv: &mut Multiview, src: [i32; 4], dst: [i32; 4], f: impl Fn([i32; 4], [i32; 4])) {
-    let Some(layout) = mv.layout().filter(|_| mv.quilt_fbo().is_some()) else {
-        return f(src, dst);
-    };
-    let corners = |r: [i32; 4]| [r[0], r[1], r[2] - r[0], r[3] - r[1]];
-    let back = |r: [i32; 4]| [r[0], r[1], r[0] + r[2], r[1] + r[3]];
-    let (read, draw) = (app.read_fbo, app.draw_fbo);
-    let src_layers = crate::multiview::shadows::layers::current_views(gl, mv, read);
-    let mut dst_layers = blit_destination(gl, mv, draw, src_layers.is_some());
-    if src_layers.is_some()
-        && dst_layers.is_some()
-        && crate::multiview::shadows::downscale::resolve_needs_full_size(mv, read, draw)
-    {
-        let why = (
-            "a multisampled framebuffer of the program's size is blitted into it",
-            "",
-        );
-        crate::multiview::shadows::downscale::unscale_framebuffer(gl, mv, draw, why);
-        dst_layers = blit_destination(gl, mv, draw, true);
-    }
-    let scale_of = |fbo: u32, layers: &Option<_>| match layers {
-        Some(_) => mv.shadows.get(&fbo).map_or(LayerScale::ONE, |s| s.scale),
-        None => LayerScale::ONE,
-    };
-    let (src_scale, dst_scale) = (scale_of(read, &src_layers), scale_of(draw, &dst_layers));
-    resolved_blit_source(gl, app, mv);
-    let per_view = draw == 0 || src_layers.is_some() || dst_layers.is_some();
-    if draw == 0 && mv.plan.before_default_draw(src_layers.is_some() || read == 0) {
-        crate::multiview::fast::synthesis::warp(gl, mv);
-    }
-    if !per_view {
-        let s = if read == 0 {
-            back(layout.map_rect(mv.camera.rig.centre(), corners(src)))
-        } else {
-            src
-        };
-        f(s, dst);
-        return rebind(gl, app, mv);
-    }
-    for i in 0..layout.views() {
-        let drawn = if draw == 0 {
-            mv.plan.draws(i)
-        } else {
-            mv.plan.renders(i)
-        };
-        if !drawn {
-            continue;
-        }
-        let s = if read == 0 {
-            back(layout.map_rect(i, corners(src)))
-        } else {
-            src_scale.corners(src)
-        };
-        let d = if draw == 0 {
-            back(layout.map_rect(i, corners(dst)))
-        } else {
-            dst_scale.corners(dst)
-        };
-        // SAFETY: our view framebuffers in place of the app's; rebound below.
-        unsafe {
-            if let Some(v) = &src_layers {
-                gl.BindFramebuffer(READ_FRAMEBUFFER, v[i as usize]);
-            }
-            if let Some(v) = &dst_layers {
-                gl.BindFramebuffer(DRAW_FRAMEBUFFER, v[i as usize]);
-            }
-        }
-        f(s, d);
-    }
-    rebind(gl, app, mv);
-}
-
-/// The layers a blit into the app's `fbo` writes: a view-dependent source makes it
-/// view-dependent too.
-fn blit_destination(gl: &Gl, mv: &mut Multiview, fbo: u32, layered_source: bool) -> Option<std::sync::Arc<[u32]>> {
-    match (fbo, layered_source) {
-        (0, _) => None,
-        (_, true) => crate::multiview::shadows::layers::ensure_shadow(
-            gl,
-            mv,
-            fbo,
-            "a view-dependent framebuffer is blitted into it",
-        ),
-        (_, false) => crate::multiview::shadows::layers::current_views(gl, mv, fbo),
-    }
-}
-
-/// Reads from a shadowed framebuffer of the app come from the centre view's layer: binds it
-/// for reading (the caller rebinds with `rebind`). A scaled layer cannot answer in the app's
-/// pixels: it is scaled back up into the app's own objects (which no pass of ours reads while
-/// their layers live), and the read is the app's own, at the app's size: the centre view at
-/// the layers' resolution.
-pub fn read_centre_layer(gl: &Gl, app: &AppState, mv: &mut Multiview) -> bool {
-    let Some(views) = crate::multiview::shadows::layers::current_views(gl, mv, app.read_fbo) else {
-        return false;
-    };
-    let centre = mv.camera.rig.centre();
-    if let Some(s) = mv.shadows.get(&app.read_fbo).filter(|s| !s.scale.is_one()) {
-        for a in &s.attached {
-            if let Some(image) = mv.images.get(&a.app) {
-                image.copy_back(gl, mv.info, centre);
-            }
-        }
-        return true;
-    }
-    let view = views[(centre as usize).min(views.len() - 1)];
-    // SAFETY: our view framebuffer for reading.
-    unsafe { gl.BindFramebuffer(READ_FRAMEBUFFER, view) };
-    true
 }

@@ -5,6 +5,7 @@
 use crate::gl::types::*;
 use crate::hook::layer::with_active;
 use crate::multiview::replay::framebuffer as fb;
+use crate::multiview::replay::transfers;
 use core::ffi::c_void;
 
 pub(crate) fn glBindFramebuffer(real: impl Fn(GLenum, GLuint), target: GLenum, fbo: GLuint) {
@@ -78,7 +79,7 @@ pub(crate) fn glScissor(real: impl Fn(GLint, GLint, GLsizei, GLsizei), x: GLint,
 fn clear_tiles(depth: bool, f: impl Fn()) {
     let done = with_active(|_, app, mv, gl| {
         crate::multiview::scene::convergence::before_erase(gl, app, mv, app.draw_fbo, depth);
-        fb::clear(gl, app, mv, &f)
+        transfers::clear(gl, app, mv, &f)
     });
     if done.is_none() {
         f()
@@ -139,10 +140,10 @@ pub(crate) fn glReadPixels(
 /// framebuffer 0, or the centre layer of a shadowed framebuffer.
 fn centre_read(rect: [i32; 4], read: impl Fn([i32; 4])) {
     let done = with_active(|_, app, mv, gl| {
-        if fb::read_centre_layer(gl, app, mv) {
+        if transfers::read_centre_layer(gl, app, mv) {
             read(rect);
             fb::rebind(gl, app, mv);
-        } else if let Some((centre, rebind)) = fb::centre_rect(gl, app, mv, rect) {
+        } else if let Some((centre, rebind)) = transfers::centre_rect(gl, app, mv, rect) {
             read(centre);
             if rebind {
                 fb::rebind(gl, app, mv);
@@ -198,7 +199,9 @@ pub(crate) fn glBlitFramebuffer(
     filter: GLenum,
 ) {
     let f = |s: [i32; 4], d: [i32; 4]| real(s[0], s[1], s[2], s[3], d[0], d[1], d[2], d[3], mask, filter);
-    if with_active(|_, app, mv, gl| fb::blit(gl, app, mv, [sx0, sy0, sx1, sy1], [dx0, dy0, dx1, dy1], f)).is_none() {
+    if with_active(|_, app, mv, gl| transfers::blit(gl, app, mv, [sx0, sy0, sx1, sy1], [dx0, dy0, dx1, dy1], f))
+        .is_none()
+    {
         f([sx0, sy0, sx1, sy1], [dx0, dy0, dx1, dy1])
     }
 }
