@@ -27,8 +27,13 @@ uniform vec4 u_offset;
 uniform vec2 u_model;
 uniform int u_zero_to_one;
 uniform float u_tolerance;
-// The row warp's hole marks (synth_rows.comp); this target's are layer u_layer.
-layout(std430, binding = 4) readonly buffer Marks { uint marks[]; };
+// The row warp's output (synth_rows.comp); this target's is layer u_layer. A depth with its
+// sign bit set is a pixel filled over a hole.
+struct Out {
+    uint color;
+    float depth;
+};
+layout(std430, binding = 4) readonly buffer Warped { Out warped[]; };
 uniform int u_layer;
 out vec4 o_color;
 
@@ -40,7 +45,7 @@ float ndc_z(float d)
 void main()
 {
     ivec2 p = ivec2(gl_FragCoord.xy) - u_rect_origin;
-    if (marks[(u_layer * u_tile.y + p.y) * u_tile.x + p.x] != 1u)
+    if ((floatBitsToUint(warped[(u_layer * u_tile.y + p.y) * u_tile.x + p.x].depth) & 0x80000000u) == 0u)
         discard;
     float z = ndc_z(texelFetch(u_synth_depth, p, 0).r);
     float w = u_model.y / (z + u_model.x);

@@ -18,17 +18,14 @@ struct Pixel {
 };
 layout(std430, binding = 1) readonly buffer Sources { Pixel src_pixels[]; };
 // A depth whose sign bit is set (depths are never negative) marks a pixel filled because
-// nothing of the sources landed there (a disocclusion, or what comes into view beyond the
-// edge); synth_resolve.frag counts the ones that stay.
+// nothing of the sources landed there (a disocclusion, what comes into view beyond the edge,
+// or nothing at all yet): synth_resolve.frag counts the ones that stay, and --reuse's kept
+// views may replace them (reuse_reproject.frag reads the same bit).
 struct Out {
     uint color;
     float depth;
 };
 layout(std430, binding = 2) buffer Targets_out { Out out_pixels[]; };
-// With u_mark: per output pixel, 1 where the pixel that won is a stretch over a hole (what
-// --reuse's kept views may replace, synth/reproject.rs), else 0.
-layout(std430, binding = 4) buffer Marks { uint marks[]; };
-uniform int u_mark;
 uniform ivec2 u_tile;
 uniform int u_targets;
 // (s, f) times half the tile width: pixels per unit of parallax, and of focus.
@@ -63,9 +60,6 @@ void put(int x, vec4 c, float z, bool hole)
     if (nearer(z, abs(out_pixels[i].depth))) {
         out_pixels[i].depth = hole ? uintBitsToFloat(floatBitsToUint(z) | 0x80000000u) : z;
         out_pixels[i].color = packUnorm4x8(c);
-        if (u_mark == 1) {
-            marks[i] = hole ? 1u : 0u;
-        }
     }
 }
 
@@ -144,12 +138,10 @@ void main()
         return;
     }
     out_base = (layer * u_tile.y + row) * width;
-    float far = u_reversed == 1 ? 0.0 : 1.0;
+    // Nothing landed yet: the far plane, marked as a hole.
+    float far = uintBitsToFloat(floatBitsToUint(u_reversed == 1 ? 0.0 : 1.0) | 0x80000000u);
     for (int x = 0; x < width; x++) {
         out_pixels[out_base + x] = Out(0u, far);
-        if (u_mark == 1) {
-            marks[out_base + x] = 1u;
-        }
     }
     Target t = targets[layer];
     if (t.src.z == 2) {

@@ -76,8 +76,6 @@ pub struct Job<'a> {
     pub rows: bool,
     /// Splat every pixel and fill the holes (`synth:pixel`) instead of warping the grid.
     pub per_pixel: bool,
-    /// The row warp marks which target pixels are stretches over holes (`hole_marks`).
-    pub mark_holes: bool,
 }
 
 fn delete_programs(gl: &Gl, names: &[u32]) {
@@ -169,11 +167,6 @@ impl Synthesizer {
             }
             self.row_targets = Some(rows::RowTargets::create(gl, job.tile, sources, count));
         }
-        if job.mark_holes
-            && let Some(t) = self.row_targets.as_mut()
-        {
-            t.ensure_marks(gl);
-        }
         let out = self.row_targets.as_ref().ok_or("no row targets")?;
         rows::run(&pass, &row_programs, out, job)
     }
@@ -235,9 +228,10 @@ impl Synthesizer {
         self.row_targets.as_ref().map(|t| t.hole_fraction(gl))
     }
 
-    /// The last row warp's hole marks, when it made them (`Job::mark_holes`).
+    /// The last row warp's output, whose depths' sign bits mark the pixels filled over holes
+    /// (`rows::RowTargets::warped`).
     pub fn hole_marks(&self) -> Option<u32> {
-        self.row_targets.as_ref().and_then(|t| t.marks())
+        self.row_targets.as_ref().map(|t| t.warped())
     }
 
     /// What of ours is shared with the context's share group.

@@ -53,7 +53,7 @@ pub struct ReprojectJob<'a> {
     pub depth_model: crate::camera::projection::DepthRange,
     /// Relative eye-distance tolerance of the merge.
     pub tolerance: f64,
-    /// The row warp's hole marks (`Synthesizer::hole_marks`).
+    /// The row warp's output, whose depth sign bits mark holes (`Synthesizer::hole_marks`).
     pub marks: u32,
     pub views: &'a [MovedView],
 }

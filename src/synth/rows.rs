@@ -56,8 +56,6 @@ pub struct RowTargets {
     params: u32,
     /// One counter: the pixels of the last warp's targets filled over holes.
     holes: u32,
-    /// Per target pixel: filled over a hole (made when first asked for, `Job::mark_holes`).
-    marks: u32,
 }
 
 /// Per target, as `Target` in synth_rows.comp (std430: vec4 then ivec4).
@@ -90,7 +88,6 @@ impl RowTargets {
             warped: storage(gl, pixels * count * 8),
             params: storage(gl, count * std::mem::size_of::<Params>()),
             holes: storage(gl, 4),
-            marks: 0,
         }
     }
 
@@ -98,27 +95,19 @@ impl RowTargets {
         self.tile == tile && self.sources == sources && self.count == count
     }
 
-    pub fn buffers(&self) -> [u32; 5] {
-        [self.packed, self.warped, self.params, self.holes, self.marks]
+    pub fn buffers(&self) -> [u32; 4] {
+        [self.packed, self.warped, self.params, self.holes]
     }
 
     pub fn delete(&self, gl: &Gl) {
         // SAFETY: deleting our own objects; zero names are ignored.
-        unsafe { gl.DeleteBuffers(5, self.buffers().as_ptr()) };
+        unsafe { gl.DeleteBuffers(4, self.buffers().as_ptr()) };
     }
 
-    /// Makes the hole marks' buffer if there is none.
-    pub fn ensure_marks(&mut self, gl: &Gl) {
-        if self.marks == 0 {
-            let pixels = self.tile.0.max(1) as usize * self.tile.1.max(1) as usize;
-            self.marks = storage(gl, pixels * self.count * 4);
-        }
-    }
-
-    /// The hole marks of the last warp (`Job::mark_holes`): a buffer of one `uint` per
-    /// target pixel, targets in the job's order, rows bottom-up.
-    pub fn marks(&self) -> Option<u32> {
-        (self.marks != 0).then_some(self.marks)
+    /// The last warp's output, one (colour, depth) per target pixel, targets in the job's
+    /// order, rows bottom-up; a depth with its sign bit set was filled over a hole.
+    pub fn warped(&self) -> u32 {
+        self.warped
     }
 
     /// The share of the last warp's target pixels filled over holes (waits for the warp).
@@ -205,11 +194,7 @@ fn warp_rows(pass: &Pass, programs: &RowPrograms, out: &RowTargets, job: &Job) {
         gl.BindBufferBase(SHADER_STORAGE_BUFFER, 0, out.params);
         gl.BindBufferBase(SHADER_STORAGE_BUFFER, 1, out.packed);
         gl.BindBufferBase(SHADER_STORAGE_BUFFER, 2, out.warped);
-        if job.mark_holes {
-            gl.BindBufferBase(SHADER_STORAGE_BUFFER, 4, out.marks);
-        }
         gl.UseProgram(p);
-        gl.Uniform1i(loc(gl, p, "u_mark"), job.mark_holes as i32);
         gl.Uniform2i(loc(gl, p, "u_tile"), job.tile.0, job.tile.1);
         gl.Uniform1i(loc(gl, p, "u_targets"), params.len() as i32);
         gl.Uniform2f(

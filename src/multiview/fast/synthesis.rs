@@ -82,7 +82,7 @@ pub fn warp(gl: &Gl, mv: &mut Multiview) {
         m.keep_reference(gl, mv.info, t);
     }
     let reused = super::reuse::at_warp(gl, mv);
-    let result = try_warp(gl, mv, &reused.filled, !reused.moved.is_empty());
+    let result = try_warp(gl, mv, &reused.filled);
     if result.is_ok() {
         super::reuse::move_kept(gl, mv, &reused.moved);
     }
@@ -140,9 +140,8 @@ pub fn capture_depth(gl: &Gl, mv: &mut Multiview) {
     mv.synth = synth;
 }
 
-/// `kept`: views already filled (from the `--reuse` history); `mark_holes`: kept views will
-/// be moved over the synthesised ones (`reuse::move_kept`).
-fn try_warp(gl: &Gl, mv: &mut Multiview, kept: &[u32], mark_holes: bool) -> Result<(), String> {
+/// `kept`: views already filled (from the `--reuse` history).
+fn try_warp(gl: &Gl, mv: &mut Multiview, kept: &[u32]) -> Result<(), String> {
     let (Some(layout), Some(quilt)) = (mv.layout(), mv.quilt_fbo()) else {
         return Ok(());
     };
@@ -197,7 +196,6 @@ fn try_warp(gl: &Gl, mv: &mut Multiview, kept: &[u32], mark_holes: bool) -> Resu
         threshold: mv.settings.synth_threshold,
         rows: mv.settings.synth_warp == crate::config::SynthWarp::Rows,
         per_pixel: mv.plan.per_pixel,
-        mark_holes,
     };
     if !ANNOUNCED.swap(true, std::sync::atomic::Ordering::Relaxed) {
         let how = if job.per_pixel {
