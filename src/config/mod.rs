@@ -57,6 +57,8 @@ pub struct Settings {
     pub osmesa_boundary: Boundary,
     /// `--overlay`: live values drawn into the presented image after each change.
     pub overlay: bool,
+    /// `--dump-disparity`: with `--dump`, each dumped frame's per-pixel disparity too.
+    pub dump_disparity: bool,
     /// `--hotkeys`: the modifiers of the layer's key grabs (`None`: off).
     pub hotkeys: Option<Vec<String>>,
     pub view: ViewSettings,
@@ -71,6 +73,7 @@ impl Default for Settings {
             record: None,
             osmesa_boundary: Boundary::Finish,
             overlay: false,
+            dump_disparity: false,
             hotkeys: parse::hotkeys(parse::DEFAULT_HOTKEYS).unwrap_or_default(),
             view: ViewSettings::default(),
         }
@@ -126,6 +129,7 @@ impl Settings {
                 "quilt" => quilt = parse::quilt(&value).ok(),
                 "tile" => tile = parse::grid(&value).ok(),
                 "overlay" => s.overlay = parse::switch(&value).unwrap_or(false),
+                "dump-disparity" => s.dump_disparity = parse::switch(&value).unwrap_or(false),
                 "hotkeys" => s.hotkeys = parse::hotkeys(&value).unwrap_or_default(),
                 "frame-budget" => budget = parse::frame_budget(&value).ok().map(|b| (b, var)),
                 "depth-remap" => comfort.remap = comfort::depth_remap(&value).ok(),

@@ -88,6 +88,8 @@ pub static OPTIONS: &[OptDef] = &[
     opt("fbo-scale", "window|tile|F", "resolution of those layers: window (the program's own, default), tile (the window maps to the tile, never upscaled) or F in (0, 1] times the program's",
         |v| super::parse::fbo_scale(v).map(|_| ())),
     opt("dump", "DIR", "write presented frames (and quilts) as PNG into DIR", super::parse::nonempty),
+    OptDef { long: "dump-disparity", value: "", help: "with --dump: also a false-colour PNG of each view's disparity, in pixels of the outermost view (f{frame}_disparity_qs{C}x{R}a{aspect}.png, legend below)",
+        check: |v| super::parse::switch(v).map(|_| ()), launcher_only: false },
     opt("dump-frames", "LIST|every:N", "frames to dump, e.g. 1,10,30 or every:10 (default: every frame)",
         |v| super::parse::frames(v).map(|_| ())),
     opt("record", "FILE.mp4", "record the quilt video with ffmpeg, named FILE_qs{C}x{R}a{aspect}.mp4 (the Looking Glass convention), at the program's measured frame rate",

@@ -13,6 +13,7 @@ pub mod device;
 pub mod device_image;
 pub mod device_window;
 pub mod dump;
+pub mod dump_disparity;
 pub mod encoder;
 pub mod glx;
 pub mod monitor;
@@ -77,6 +78,9 @@ impl Presenter {
     /// The quilt and, after a native present, the weave, as PNGs of frame `frame`.
     pub fn dump(&self, frame: u64, gl: &Gl, mv: &Multiview, settings: &Settings) -> Result<(), String> {
         dump::quilt(frame, gl, mv, settings)?;
+        if settings.dump_disparity {
+            dump_disparity::disparity(frame, gl, mv, settings)?;
+        }
         if mv.settings.output == Output::Native {
             dump::native(frame, gl, self, mv.info, settings)?;
         }

@@ -82,3 +82,45 @@ fn a_sky_box_around_the_eye_moves_as_infinity() {
         "--sky-at-infinity off: the sky still moves as infinity ({off:?} px)"
     );
 }
+
+/// `--dump-disparity` shows what the fast modes and the comfort pass take each pixel's
+/// disparity to be: the sky, drawn without depth writes, at infinity (the legend's far
+/// end, `[10, 40, 150]`), the near floor in front of the screen (red), in every view.
+#[test]
+fn the_disparity_dump_puts_the_sky_at_infinity_and_the_near_floor_in_front() {
+    let dir = temp_dir("sky_disparity_dump");
+    let dump = dir.join("dump");
+    let mut options = vec![
+        "--output",
+        "quilt",
+        "--quilt",
+        "3x3",
+        "--tile",
+        "320x240",
+        "--dump-disparity",
+    ];
+    options.extend(RIG);
+    options.extend(dump_and_exit_at(&dump, "3"));
+    let out = under_layer(&options, app("legacy"), &APP, &[]);
+    assert_success(&out, "legacy --sky with --dump-disparity");
+    let img = read_png(&dump.join("f000003_disparity_qs3x3a1.3333.png"));
+    assert_eq!(
+        (img.width, img.height),
+        (960, 720 + 28),
+        "quilt-sized image with a legend strip below"
+    );
+    for view in 0..9 {
+        let (x0, y0) = ((view % 3) * 320, 720 - (view / 3 + 1) * 240);
+        let sky = img.pixel(x0 + 250, y0 + 10).unwrap();
+        assert_eq!(
+            sky,
+            [10, 40, 150],
+            "view {view}: the sky is not at infinity in the dump"
+        );
+        let floor = img.pixel(x0 + 160, y0 + 235).unwrap();
+        assert!(
+            floor[0] > 200 && floor[2] < 180,
+            "view {view}: the near floor is not in front ({floor:?})"
+        );
+    }
+}

@@ -151,6 +151,25 @@ fn source(mv: &Multiview, target: u32) -> Option<(u32, [i32; 4], Source)> {
     (rect[2] > 0 && rect[3] > 0).then_some((fbo, rect, from))
 }
 
+/// Where view `view`'s scene depth is at the swap, and the rectangle of it the camera drew
+/// into: its tile of the quilt, or its layer of the scene framebuffer's shadow; `None` for a
+/// scene framebuffer without a shadow (one depth for every view) or a multisampled quilt.
+pub fn view_depth(mv: &Multiview, view: u32) -> Option<(u32, [i32; 4])> {
+    let target = mv.scene.tracker.target.unwrap_or(0);
+    let viewport = mv.scene.tracker.viewport;
+    let (fbo, rect) = if target == 0 {
+        let q = mv.target.as_ref()?;
+        let tile = q.layout.tile_rect(view);
+        let drawn = intersect(q.layout.map_rect(view, viewport), tile);
+        (q.resolved_fbo, if drawn[2] > 0 && drawn[3] > 0 { drawn } else { tile })
+    } else {
+        let s = mv.shadows.get(&target)?;
+        let fbo = *s.views.get(view as usize)?;
+        (fbo, intersect(s.scale.rect_out(viewport), [0, 0, s.size.0, s.size.1]))
+    };
+    (rect[2] > 0 && rect[3] > 0).then_some((fbo, rect))
+}
+
 /// `depth_copy::describe`, after checking that an app's framebuffer still exists.
 fn checked_describe(gl: &Gl, mv: &Multiview, fbo: u32, from: Source) -> Result<SourceFormat, String> {
     // SAFETY: a query on a name, binding nothing.
