@@ -38,29 +38,46 @@ fn steady_clock() -> &'static Path {
 const PRELOAD_TOO: &str = r#"LD_PRELOAD="$LD_PRELOAD:$0" exec "$@""#;
 
 /// Records `program` with apitrace, under the steady clock, for `seconds` (or until it
-/// exits). `timeout` signals the whole process group; apitrace's own signal handler in the
-/// traced program has been seen to hang under load, so a KILL follows 5 s later (glretrace
-/// replays truncated traces). On a loaded machine a program can spend a short recording just
-/// starting (glxgears recorded nothing in 1.5 s during a full test run): then it is recorded
-/// again for four times as long.
-fn record(dir: &Path, name: &str, api: &str, program: &[&str], seconds: &str) -> PathBuf {
+/// exits), until the trace holds `frames` frames. `timeout` signals the whole process group;
+/// apitrace's own signal handler in the traced program has been seen to hang under load, so a
+/// KILL follows 5 s later (glretrace replays truncated traces). On a loaded machine a program
+/// can spend a short recording just starting (glxgears recorded nothing in 1.5 s during a
+/// full test run; chromium-bsu 6 s short of 60 frames beside `stress-ng --cpu 4`): then it is
+/// recorded again for four times as long. Which frames there are depends on the machine;
+/// what each one shows does not.
+fn record(dir: &Path, name: &str, api: &str, program: &[&str], seconds: &str, frames: u32) -> PathBuf {
     require_display();
     let trace = dir.join(format!("{name}.trace"));
     let longer = seconds
         .parse::<f64>()
         .map_or(seconds.to_string(), |s| format!("{}", s * 4.0));
     let clock = steady_clock().to_str().unwrap();
+    let mut recorded = 0;
     for limit in [seconds, longer.as_str()] {
         let mut args = vec!["-k", "5", limit, "apitrace", "trace", "--api", api, "-o"];
         args.extend([trace.to_str().unwrap(), "sh", "-c", PRELOAD_TOO, clock]);
         args.extend_from_slice(program);
         let _ = std::fs::remove_file(&trace);
         let _ = run(Path::new("timeout"), &args, &[]);
-        if std::fs::metadata(&trace).map(|m| m.len()).unwrap_or(0) > 1000 {
+        recorded = frames_in(&trace);
+        if recorded >= frames {
             return trace;
         }
     }
-    panic!("apitrace recorded nothing for {program:?} (is apitrace installed? scripts/setup-debian.sh)");
+    panic!(
+        "apitrace recorded {recorded} of {frames} frames of {program:?} in {longer} s \
+         (is apitrace installed? scripts/setup-debian.sh)"
+    );
+}
+
+/// The frames of a trace (`apitrace info`), 0 when there is none.
+fn frames_in(trace: &Path) -> u32 {
+    let out = run(Path::new("apitrace"), &["info", trace.to_str().unwrap()], &[]);
+    let info = String::from_utf8_lossy(&out.stdout);
+    info.split("\"FramesCount\":")
+        .nth(1)
+        .and_then(|r| r.split([',', '\n', '}']).next()?.trim().parse().ok())
+        .unwrap_or(0)
 }
 
 /// Frame `frame` (from 1) of a plain replay, as glretrace's own snapshot, and what the
@@ -92,7 +109,7 @@ fn injected_dump(dir: &Path, retrace: &str, trace: &Path, frame: u32) -> (PathBu
 
 fn assert_replay_identical(test: &str, api: &str, retrace: &str, program: &[&str], seconds: &str, frame: u32) {
     let dir = temp_dir(test);
-    let trace = record(&dir, test, api, program, seconds);
+    let trace = record(&dir, test, api, program, seconds, frame);
     let (expected, plain_err) = plain_snapshot(&dir, retrace, &trace, frame);
     let (actual, layer_err) = injected_dump(&dir, retrace, &trace, frame);
     assert!(
@@ -143,7 +160,7 @@ fn replay_quilt(
     checks: QuiltChecks,
 ) -> String {
     let dir = temp_dir(test);
-    let trace = record(&dir, test, api, program, seconds);
+    let trace = record(&dir, test, api, program, seconds, frame);
     let (plain_png, plain_err) = plain_snapshot(&dir, retrace, &trace, frame);
     let plain = read_png(&plain_png);
     let dump = dir.join("quilt");
