@@ -9,10 +9,13 @@
 //!
 //! Run: `cargo test --release --test remap_on_mesa -- --nocapture`
 
-use holoapps::gl::{self, Gl};
-use holoapps::platform::{Platform, Profile, create};
+mod mesa_common;
+
+use holoapps::gl::Gl;
+use holoapps::platform::Profile;
 use holoinject::camera::comfort::{DepthRemap, GLSL, REMAP_OFF};
 use holoinject::shader::{REMAP_UNIFORM, Stage, VIEW_UNIFORM, ViewMode, analyse, rewrite};
+use mesa_common::{capture, capture_program, mesa};
 use std::ffi::CString;
 
 const VERTEX: &str = "#version 330 core
@@ -22,46 +25,6 @@ void main() {
 }
 ";
 const TILE_W: f64 = 420.0;
-
-struct Mesa {
-    _platform: Box<dyn Platform>,
-    gl: Gl,
-}
-
-fn mesa() -> Mesa {
-    // The layer linked into this test binary stays in pass-through (see shift_on_mesa.rs).
-    static PASS_THROUGH: std::sync::Once = std::sync::Once::new();
-    // SAFETY: written once, before the first GL call reads the settings.
-    PASS_THROUGH.call_once(|| unsafe { std::env::set_var("HOLOINJECT_OUTPUT", "mono") });
-    let platform = create(holoapps::cli::Backend::OsMesa, (16, 16), Profile::Core33).expect("OSMesa context");
-    let gl = Gl::load_with(|s| platform.get_proc_address(s));
-    Mesa {
-        _platform: platform,
-        gl,
-    }
-}
-
-/// A vertex-only program capturing `varying` with transform feedback.
-fn capture_program(gl: &Gl, vertex: &str, varying: &str) -> u32 {
-    holoapps::shader::compile_status(gl, gl::VERTEX_SHADER, vertex).unwrap_or_else(|e| panic!("{e}\n{vertex}"));
-    // SAFETY (test): plain GL calls on the current OSMesa context.
-    unsafe {
-        let s = gl.CreateShader(gl::VERTEX_SHADER);
-        let c = CString::new(vertex).unwrap();
-        gl.ShaderSource(s, 1, &c.as_ptr(), std::ptr::null());
-        gl.CompileShader(s);
-        let p = gl.CreateProgram();
-        gl.AttachShader(p, s);
-        let v = CString::new(varying).unwrap();
-        gl.TransformFeedbackVaryings(p, 1, &v.as_ptr(), gl::INTERLEAVED_ATTRIBS);
-        gl.LinkProgram(p);
-        let mut ok = 0;
-        gl.GetProgramiv(p, gl::LINK_STATUS, &mut ok);
-        assert_eq!(ok, 1, "link failed");
-        gl.DeleteShader(s);
-        p
-    }
-}
 
 fn set4(gl: &Gl, program: u32, name: &str, v: [f32; 4]) {
     let c = CString::new(name).unwrap();
@@ -73,52 +36,13 @@ fn set4(gl: &Gl, program: u32, name: &str, v: [f32; 4]) {
     }
 }
 
-/// `components` floats per point of what `program` captures for `points`.
-fn run(gl: &Gl, program: u32, points: &[[f32; 4]], components: usize) -> Vec<f32> {
-    // SAFETY (test): our buffers and a rasterizer-discarded point draw.
-    unsafe {
-        gl.UseProgram(program);
-        let (mut vao, mut vbo, mut tfb) = (0, 0, 0);
-        gl.GenVertexArrays(1, &mut vao);
-        gl.BindVertexArray(vao);
-        gl.GenBuffers(1, &mut vbo);
-        gl.BindBuffer(gl::ARRAY_BUFFER, vbo);
-        let bytes = std::mem::size_of_val(points) as isize;
-        gl.BufferData(gl::ARRAY_BUFFER, bytes, points.as_ptr().cast(), gl::STATIC_DRAW);
-        gl.VertexAttribPointer(0, 4, gl::FLOAT, gl::FALSE, 0, std::ptr::null());
-        gl.EnableVertexAttribArray(0);
-        gl.GenBuffers(1, &mut tfb);
-        let out_bytes = (points.len() * components * 4) as isize;
-        gl.BindBuffer(gl::TRANSFORM_FEEDBACK_BUFFER, tfb);
-        gl.BufferData(
-            gl::TRANSFORM_FEEDBACK_BUFFER,
-            out_bytes,
-            std::ptr::null(),
-            gl::STATIC_READ,
-        );
-        gl.BindBufferBase(gl::TRANSFORM_FEEDBACK_BUFFER, 0, tfb);
-        gl.Enable(gl::RASTERIZER_DISCARD);
-        gl.BeginTransformFeedback(gl::POINTS);
-        gl.DrawArrays(gl::POINTS, 0, points.len() as i32);
-        gl.EndTransformFeedback();
-        gl.Disable(gl::RASTERIZER_DISCARD);
-        let mut out = vec![0f32; points.len() * components];
-        gl.GetBufferSubData(gl::TRANSFORM_FEEDBACK_BUFFER, 0, out_bytes, out.as_mut_ptr().cast());
-        assert_eq!(gl.GetError(), gl::NO_ERROR);
-        gl.DeleteBuffers(1, &vbo);
-        gl.DeleteBuffers(1, &tfb);
-        gl.DeleteVertexArrays(1, &vao);
-        out
-    }
-}
-
 fn remap() -> DepthRemap {
     DepthRemap::new(30.0, 40.0, 90.0, 120.0).unwrap()
 }
 
 #[test]
 fn glsl_remap_matches_f64() {
-    let mesa = mesa();
+    let mesa = mesa(Profile::Core33);
     let gl = &mesa.gl;
     let src = format!(
         "#version 330 core\n{GLSL}layout(location = 0) in vec4 pos;\nuniform vec4 r;\nout float y;\n\
@@ -141,7 +65,7 @@ fn glsl_remap_matches_f64() {
     // SAFETY (test): binding our program to set its uniform.
     unsafe { gl.UseProgram(program) };
     set4(gl, program, "r", r.uniform());
-    let got = run(gl, program, &points, 1);
+    let got = capture(gl, program, &points, 1);
     let mut worst: f64 = 0.0;
     for (&x, &y) in xs.iter().zip(&got) {
         let want = r.apply(x as f64);
@@ -157,13 +81,13 @@ fn glsl_remap_matches_f64() {
     println!("remap on Mesa vs f64: worst {worst:.2e} px over {} inputs", xs.len());
     // Off (r = 0): the identity, bit for bit.
     set4(gl, program, "r", REMAP_OFF);
-    let off = run(gl, program, &points, 1);
+    let off = capture(gl, program, &points, 1);
     assert!(xs.iter().zip(&off).all(|(x, y)| x.to_bits() == y.to_bits()));
 }
 
 #[test]
 fn injected_shift_with_remap_gives_the_remapped_disparity() {
-    let mesa = mesa();
+    let mesa = mesa(Profile::Core33);
     let gl = &mesa.gl;
     let plain = capture_program(gl, VERTEX, "gl_Position");
     let rewritten = capture_program(
@@ -180,19 +104,19 @@ fn injected_shift_with_remap_gives_the_remapped_disparity() {
     let mut points: Vec<[f32; 4]> = ws.iter().map(|&w| [(0.3 * w) as f32, 0.1, 0.0, w as f32]).collect();
     points.push([0.0, 0.0, 0.0, 1e-30]);
     let mode = ViewMode::PerspectiveFiniteFar.as_uniform();
-    let own = run(gl, plain, &points, 4);
+    let own = capture(gl, plain, &points, 4);
     // SAFETY (test): binding our program to set its uniforms.
     unsafe { gl.UseProgram(rewritten) };
     set4(gl, rewritten, REMAP_UNIFORM, comfort);
     set4(gl, rewritten, VIEW_UNIFORM, [0.0, c as f32, 0.0, mode]);
-    let centre = run(gl, rewritten, &points, 4);
+    let centre = capture(gl, rewritten, &points, 4);
     assert!(
         own.iter().zip(&centre).all(|(a, b)| a.to_bits() == b.to_bits()),
         "centre view differs"
     );
     // The outermost view (u = 1): k = s, h = f.
     set4(gl, rewritten, VIEW_UNIFORM, [s as f32, c as f32, f as f32, mode]);
-    let outer = run(gl, rewritten, &points, 4);
+    let outer = capture(gl, rewritten, &points, 4);
     let (mut worst, mut largest): (f64, f64) = (0.0, 0.0);
     for (k, &w) in ws.iter().enumerate() {
         let (x0, x1, w32) = (own[4 * k] as f64, outer[4 * k] as f64, outer[4 * k + 3] as f64);

@@ -15,12 +15,15 @@
 //!
 //! Run: `cargo test --release --test shift_on_mesa -- --nocapture`
 
+mod mesa_common;
+
 use holoapps::gl::{self, Gl};
-use holoapps::platform::{Platform, Profile, create};
+use holoapps::platform::Profile;
 use holoinject::camera::invert;
 use holoinject::camera::precision::{Case, apply, cases, mul, point, rig_for};
 use holoinject::camera::projection::classify;
 use holoinject::shader::{Stage, VIEW_UNIFORM, ViewMode, analyse, rewrite};
+use mesa_common::{capture, capture_program, mesa};
 use std::ffi::CString;
 
 const VERTEX: &str = "#version 330 core
@@ -32,52 +35,10 @@ void main() {
 ";
 const TILE_HALF_WIDTH: f64 = 210.0;
 
-struct Mesa {
-    _platform: Box<dyn Platform>,
-    gl: Gl,
-}
-
-fn mesa(profile: Profile) -> Mesa {
-    // A test executable linking the holoinject rlib exports its hooks (and `dlsym`), so the
-    // layer is live in this process: keep it in pass-through, as the shaders here are
-    // rewritten and driven by hand.
-    static PASS_THROUGH: std::sync::Once = std::sync::Once::new();
-    // SAFETY: the layer reads its settings on its first GL call, after this; both tests
-    // write the same value under the Once.
-    PASS_THROUGH.call_once(|| unsafe { std::env::set_var("HOLOINJECT_OUTPUT", "mono") });
-    let platform = create(holoapps::cli::Backend::OsMesa, (16, 16), profile).expect("OSMesa context");
-    let gl = Gl::load_with(|s| platform.get_proc_address(s));
-    Mesa {
-        _platform: platform,
-        gl,
-    }
-}
-
-/// A program capturing `gl_Position` through transform feedback.
-fn capture_program(gl: &Gl, vertex: &str) -> u32 {
-    unsafe {
-        let s = gl.CreateShader(gl::VERTEX_SHADER);
-        let c = CString::new(vertex).unwrap();
-        gl.ShaderSource(s, 1, &c.as_ptr(), std::ptr::null());
-        gl.CompileShader(s);
-        let mut ok = 0;
-        gl.GetShaderiv(s, gl::COMPILE_STATUS, &mut ok);
-        assert_eq!(ok, 1, "Mesa refused:\n{vertex}");
-        let p = gl.CreateProgram();
-        gl.AttachShader(p, s);
-        let varying = c"gl_Position";
-        gl.TransformFeedbackVaryings(p, 1, &varying.as_ptr(), gl::INTERLEAVED_ATTRIBS);
-        gl.LinkProgram(p);
-        gl.GetProgramiv(p, gl::LINK_STATUS, &mut ok);
-        assert_eq!(ok, 1, "link failed");
-        gl.DeleteShader(s);
-        p
-    }
-}
-
 /// Clip coordinates of `points` through `program` with `mvp` and, when the program was
 /// rewritten, `holoinject_view = view`.
 fn run(gl: &Gl, program: u32, mvp: &[f32; 16], view: Option<[f32; 4]>, points: &[[f32; 4]]) -> Vec<[f32; 4]> {
+    // SAFETY (test): uniforms of our own program, bound on the current OSMesa context.
     unsafe {
         gl.UseProgram(program);
         gl.UniformMatrix4fv(
@@ -92,32 +53,9 @@ fn run(gl: &Gl, program: u32, mvp: &[f32; 16], view: Option<[f32; 4]>, points: &
             assert!(loc >= 0, "{VIEW_UNIFORM} not found");
             gl.Uniform4f(loc, v[0], v[1], v[2], v[3]);
         }
-        let (mut vao, mut vbo, mut tfb) = (0, 0, 0);
-        gl.GenVertexArrays(1, &mut vao);
-        gl.BindVertexArray(vao);
-        gl.GenBuffers(1, &mut vbo);
-        gl.BindBuffer(gl::ARRAY_BUFFER, vbo);
-        let bytes = std::mem::size_of_val(points) as isize;
-        gl.BufferData(gl::ARRAY_BUFFER, bytes, points.as_ptr().cast(), gl::STATIC_DRAW);
-        gl.VertexAttribPointer(0, 4, gl::FLOAT, gl::FALSE, 0, std::ptr::null());
-        gl.EnableVertexAttribArray(0);
-        gl.GenBuffers(1, &mut tfb);
-        gl.BindBuffer(gl::TRANSFORM_FEEDBACK_BUFFER, tfb);
-        gl.BufferData(gl::TRANSFORM_FEEDBACK_BUFFER, bytes, std::ptr::null(), gl::STATIC_READ);
-        gl.BindBufferBase(gl::TRANSFORM_FEEDBACK_BUFFER, 0, tfb);
-        gl.Enable(gl::RASTERIZER_DISCARD);
-        gl.BeginTransformFeedback(gl::POINTS);
-        gl.DrawArrays(gl::POINTS, 0, points.len() as i32);
-        gl.EndTransformFeedback();
-        gl.Disable(gl::RASTERIZER_DISCARD);
-        let mut out = vec![[0f32; 4]; points.len()];
-        gl.GetBufferSubData(gl::TRANSFORM_FEEDBACK_BUFFER, 0, bytes, out.as_mut_ptr().cast());
-        assert_eq!(gl.GetError(), gl::NO_ERROR);
-        gl.DeleteBuffers(1, &vbo);
-        gl.DeleteBuffers(1, &tfb);
-        gl.DeleteVertexArrays(1, &vao);
-        out
     }
+    let flat = capture(gl, program, points, 4);
+    flat.chunks_exact(4).map(|p| [p[0], p[1], p[2], p[3]]).collect()
 }
 
 struct Measured {
@@ -207,8 +145,8 @@ fn injected_shift_on_mesa_matches_f64_at_the_extremes() {
     let gl = &mesa.gl;
     let analysis = analyse(VERTEX, Stage::Vertex);
     let rewritten_src = rewrite(VERTEX, &analysis).expect("rewrite");
-    let plain = capture_program(gl, VERTEX);
-    let rewritten = capture_program(gl, &rewritten_src);
+    let plain = capture_program(gl, VERTEX, "gl_Position");
+    let rewritten = capture_program(gl, &rewritten_src, "gl_Position");
     println!(
         "| case | largest shift, view 47 (px) | shader arithmetic error (px) | its bound (px) | points taken as far plane | far-plane rule vs exact (px) | total f32 error (px) |"
     );

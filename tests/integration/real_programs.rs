@@ -3,46 +3,81 @@
 //! Their animation follows the wall clock, so "identical with and without the layer" is made
 //! deterministic the way the issue suggests: record an apitrace once, replay it plainly with
 //! glretrace's own snapshots, replay it again under the layer with our dumps, and compare the
-//! same frame bit for bit. glmark2 itself (which `dlopen`s libGL `RTLD_LOCAL`) is also run
-//! directly to prove the dlopen/dlsym path is hooked. Every replay under the layer reports no
-//! GL error that the plain replay of the same trace does not (`assert_no_added_gl_errors`).
+//! same frame bit for bit. A replay alone does not make frame N one moment of the animation:
+//! the recording samples the clock, and a loaded machine recorded glmark2's pulsar flat again
+//! at frame 1500 (issue 21). So programs are recorded under a steady clock
+//! (`real_programs/steady_clock.c`: each reading on the main thread is 1/60 s after the
+//! last), and frame N of a recording is the same scene on any machine. glmark2 itself (which
+//! `dlopen`s libGL `RTLD_LOCAL`) is also run directly to prove the dlopen/dlsym path is
+//! hooked. Every replay under the layer reports no GL error that the plain replay of the same
+//! trace does not (`assert_no_added_gl_errors`).
 
 use crate::util::*;
 use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
 
 mod window_like;
 
-/// Records `program` with apitrace for `seconds` (or until it exits). `timeout` signals the
-/// whole process group; apitrace's own signal handler in the traced program has been seen
-/// to hang under load, so a KILL follows 5 s later (glretrace replays truncated traces). On a
-/// loaded machine a program can spend a short recording just starting (glxgears recorded
-/// nothing in 1.5 s during a full test run): then it is recorded again for four times as long.
-fn record(dir: &Path, name: &str, api: &str, program: &[&str], seconds: &str) -> PathBuf {
+/// `real_programs/steady_clock.c`, built once per test run with `cc` (the linker Rust uses).
+fn steady_clock() -> &'static Path {
+    static LIB: OnceLock<PathBuf> = OnceLock::new();
+    LIB.get_or_init(|| {
+        let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/integration/real_programs/steady_clock.c");
+        let lib = Path::new(env!("CARGO_TARGET_TMPDIR")).join("steady_clock.so");
+        let (src, out) = (src.to_str().unwrap(), lib.to_str().unwrap());
+        let flags = [
+            "-shared", "-fPIC", "-O2", "-Wall", "-Wextra", "-Werror", "-o", out, src, "-ldl",
+        ];
+        assert_success(&run(Path::new("cc"), &flags, &[]), "cc steady_clock.c");
+        lib
+    })
+}
+
+/// Runs the rest of its arguments with `$0` added to `LD_PRELOAD` after what is there:
+/// `apitrace trace` sets `LD_PRELOAD` to its own wrapper for the program it starts.
+const PRELOAD_TOO: &str = r#"LD_PRELOAD="$LD_PRELOAD:$0" exec "$@""#;
+
+/// Records `program` with apitrace, under the steady clock, for `seconds` (or until it
+/// exits), until the trace holds `frames` frames. `timeout` signals the whole process group;
+/// apitrace's own signal handler in the traced program has been seen to hang under load, so a
+/// KILL follows 5 s later (glretrace replays truncated traces). On a loaded machine a program
+/// can spend a short recording just starting (glxgears recorded nothing in 1.5 s during a
+/// full test run; chromium-bsu 6 s short of 60 frames beside `stress-ng --cpu 4`): then it is
+/// recorded again for four times as long. Which frames there are depends on the machine;
+/// what each one shows does not.
+fn record(dir: &Path, name: &str, api: &str, program: &[&str], seconds: &str, frames: u32) -> PathBuf {
     require_display();
     let trace = dir.join(format!("{name}.trace"));
     let longer = seconds
         .parse::<f64>()
         .map_or(seconds.to_string(), |s| format!("{}", s * 4.0));
+    let clock = steady_clock().to_str().unwrap();
+    let mut recorded = 0;
     for limit in [seconds, longer.as_str()] {
-        let mut args = vec![
-            "-k",
-            "5",
-            limit,
-            "apitrace",
-            "trace",
-            "--api",
-            api,
-            "-o",
-            trace.to_str().unwrap(),
-        ];
+        let mut args = vec!["-k", "5", limit, "apitrace", "trace", "--api", api, "-o"];
+        args.extend([trace.to_str().unwrap(), "sh", "-c", PRELOAD_TOO, clock]);
         args.extend_from_slice(program);
         let _ = std::fs::remove_file(&trace);
         let _ = run(Path::new("timeout"), &args, &[]);
-        if std::fs::metadata(&trace).map(|m| m.len()).unwrap_or(0) > 1000 {
+        recorded = frames_in(&trace);
+        if recorded >= frames {
             return trace;
         }
     }
-    panic!("apitrace recorded nothing for {program:?} (is apitrace installed? scripts/setup-debian.sh)");
+    panic!(
+        "apitrace recorded {recorded} of {frames} frames of {program:?} in {longer} s \
+         (is apitrace installed? scripts/setup-debian.sh)"
+    );
+}
+
+/// The frames of a trace (`apitrace info`), 0 when there is none.
+fn frames_in(trace: &Path) -> u32 {
+    let out = run(Path::new("apitrace"), &["info", trace.to_str().unwrap()], &[]);
+    let info = String::from_utf8_lossy(&out.stdout);
+    info.split("\"FramesCount\":")
+        .nth(1)
+        .and_then(|r| r.split([',', '\n', '}']).next()?.trim().parse().ok())
+        .unwrap_or(0)
 }
 
 /// Frame `frame` (from 1) of a plain replay, as glretrace's own snapshot, and what the
@@ -74,7 +109,7 @@ fn injected_dump(dir: &Path, retrace: &str, trace: &Path, frame: u32) -> (PathBu
 
 fn assert_replay_identical(test: &str, api: &str, retrace: &str, program: &[&str], seconds: &str, frame: u32) {
     let dir = temp_dir(test);
-    let trace = record(&dir, test, api, program, seconds);
+    let trace = record(&dir, test, api, program, seconds, frame);
     let (expected, plain_err) = plain_snapshot(&dir, retrace, &trace, frame);
     let (actual, layer_err) = injected_dump(&dir, retrace, &trace, frame);
     assert!(
@@ -125,7 +160,7 @@ fn replay_quilt(
     checks: QuiltChecks,
 ) -> String {
     let dir = temp_dir(test);
-    let trace = record(&dir, test, api, program, seconds);
+    let trace = record(&dir, test, api, program, seconds, frame);
     let (plain_png, plain_err) = plain_snapshot(&dir, retrace, &trace, frame);
     let plain = read_png(&plain_png);
     let dump = dir.join("quilt");
@@ -201,7 +236,7 @@ fn glmark2_shadow_fbo_quilt() {
 /// the framebuffer the camera draws into.
 #[test]
 fn glmark2_terrain_fbo_quilt() {
-    let prog = ["glmark2", "-s", "400x300", "-b", "terrain:duration=3"];
+    let prog = ["glmark2", "-s", "400x300", "-b", "terrain:nframes=8"];
     let line = assert_replay_quilt("glmark2_terrain_fbo_quilt", "gl", "glretrace", &prog, "60", 6);
     assert!(
         line.contains("from framebuffer") && !line.contains("from framebuffer 0"),
@@ -281,18 +316,20 @@ fn glmark2_refract_fbo_quilt() {
 }
 
 // `texture` and `pulsar` start flat (a crate's front face; quads squashed into a band a few
-// pixels tall, their height growing as sin(t/3.6)) and change with the wall clock; their
-// depth shows only later, so they run a fixed number of frames (a loaded machine records
-// few frames in a fixed time: the other scenes run a fixed count too, so that frame 12
-// exists however loaded the machine is) and are seen at the last: at least 0.4 s and 1.1 s in
-// (measured: outer-view spreads of 4-5 px and 2.7 px). The pulsar's quads are textured so
-// that blocks match.
+// pixels tall, their height growing as sin(t/3.6)) and change with time; their depth shows
+// only later. Each scene runs a fixed number of frames (so that the frame seen exists however
+// slowly the machine records) and, under the steady clock, frame N is N/60 s into it
+// whatever the machine's speed: texture and pulsar are seen at 1 s and 3 s (measured: outer-
+// view spreads of 6.3 / 6.1 px and 3.1 / 3.1 px; pulsar at frame 3 has none). Recorded by
+// the wall clock, frame 1500 of pulsar was flat on a loaded machine (issue 21: the quads are
+// flat again whenever sin(t/3.6) is near 0, at t = 11.3 s). The pulsar's quads are textured
+// so that blocks match.
 glmark2_quilt_tests! {
     glmark2_build_quilt: "build:use-vbo=true:nframes=24" at 12;
-    glmark2_texture_quilt: "texture:nframes=900" at 900;
+    glmark2_texture_quilt: "texture:nframes=60" at 60;
     glmark2_shading_quilt: "shading:shading=phong:nframes=24" at 12;
     glmark2_bump_quilt: "bump:bump-render=normals:nframes=24" at 12;
-    glmark2_pulsar_quilt: "pulsar:texture=true:nframes=1500" at 1500;
+    glmark2_pulsar_quilt: "pulsar:texture=true:nframes=180" at 180;
 }
 
 #[test]

@@ -1,7 +1,7 @@
 //! `synth:pixel` and `hybrid:K:pixel`, the per-pixel baseline (DESIGN §5), on the sample
 //! apps against `--mode exact` of the same frame, as `synthesis` checks the grid warp.
 
-use crate::synthesis::{RIG, assert_hud_in_place, quilt_in};
+use crate::synthesis::{RIG, assert_hud_in_place, assert_hybrid2_near_exact, quilt_in};
 use crate::util::*;
 
 /// Pixels of tile `i` that are pure black: what a hole the filling missed looks like (the
@@ -54,17 +54,7 @@ fn pixel_views_match_exact_fill_holes_and_show_depth() {
 /// (nearer wins). Measured 30.5-31.3 dB on every run (the grid's `hybrid:2`: 26.7-27.2).
 #[test]
 fn hybrid_pixel_splats_from_both_rendered_views() {
-    require_display();
-    let dir = temp_dir("synth_pixel_hybrid2");
-    let (exact, _) = quilt_in(&dir, "cubes", "5x1", "exact", &[]);
-    let (hybrid, log) = quilt_in(&dir, "cubes", "5x1", "hybrid:2:pixel", &[]);
-    assert!(log.contains("synthesis: 2 of 5 views rendered"), "{log}");
-    let psnr = tile_psnr(&read_png(&exact), &read_png(&hybrid), 5, 1);
-    eprintln!("hybrid:2:pixel against exact, per view: {psnr:.2?}");
-    assert!(psnr[0].is_infinite() && psnr[4].is_infinite(), "{psnr:?}");
-    for p in &psnr[1..4] {
-        assert!(*p >= 29.5, "{psnr:.2?}");
-    }
+    assert_hybrid2_near_exact("synth_pixel_hybrid2", "hybrid:2:pixel", 29.5);
 }
 
 /// The HUD `legacy` draws after its scene is drawn in every view, never splatted.

@@ -35,7 +35,7 @@ fn replay(dir: &Path, name: &str, retrace: &[&str], trace: &Path, frame: u32, op
 /// and its options): the centre tile of frame `frame` at 1x1 and 5x1 against pass-through.
 fn assert_centre_is_passthrough(test: &str, api: &str, retrace: &[&str], program: &[&str], seconds: &str, frame: u32) {
     let dir = temp_dir(test);
-    let trace = record(&dir, test, api, program, seconds);
+    let trace = record(&dir, test, api, program, seconds, frame);
     let passthrough = replay(&dir, "passthrough", retrace, &trace, frame, &["--output", "mono"]);
     let expected = read_png(&passthrough.join(format!("f{frame:06}_out.png")));
     assert!(
