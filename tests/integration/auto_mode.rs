@@ -7,7 +7,7 @@
 //! count, and a frame it renders at K is the frame `hybrid:K` renders, bit for bit.
 
 use crate::util::*;
-use holoinject::multiview::auto::HOLD;
+use holoinject::multiview::fast::auto::HOLD;
 use std::path::Path;
 
 const QUILT: [&str; 6] = ["--output", "quilt", "--quilt", "5x1", "--tile", "320x240"];
