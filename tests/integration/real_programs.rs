@@ -10,6 +10,7 @@
 use crate::util::*;
 use std::path::{Path, PathBuf};
 
+mod sky_box;
 mod window_like;
 
 /// Records `program` with apitrace for `seconds` (or until it exits). `timeout` signals the
