@@ -13,10 +13,15 @@
 //! they keep: an identity rotation *and* depth writes on. A sky seen by a camera looking
 //! exactly down −z with depth writes on is the one case this gives up.
 
-/// Relative size of a translation that counts as none: matrices are built in f32 from
-/// rotations, and a rotation's round-off leaves the translation exactly zero; anything an
-/// app translates by on purpose is many orders above this.
-const NO_TRANSLATION: f64 = 1e-6;
+/// Relative size of a translation that counts as none. A rotation alone leaves it exactly
+/// zero, but games rarely build the sky's transform that way: Extreme Tux Racer loads its
+/// view matrix (translation `-R·eye`) and then `glTranslated(eye)` for the sky, and the two
+/// cancel only to GL's f32 round-off, a few ulps of the eye's distance from the world's
+/// origin: 4e-6 of the box at 100 units, up to 3e-4 at 3,000 (its longest courses;
+/// measured in a trace, modelled for the rest). 1e-6 missed every such sky after the
+/// race's first metres. What an app translates by on purpose is further off: a large scene
+/// moved by a thousandth of its size is still a translation.
+const NO_TRANSLATION: f64 = 4e-4;
 
 /// Whether a fixed-function draw under `projection` and `modelview` (column-major) is
 /// attached to the camera: its origin is the eye, and it has either a rotation of its own or
@@ -112,6 +117,42 @@ mod tests {
         // A small translation of a large scene is still a translation.
         let far = cols(Mat4::from_scale(Vec3::splat(1e4)) * Mat4::from_translation(Vec3::new(1e-3, 0.0, 0.0)));
         assert!(!camera_attached(&p, &far, || false));
+    }
+
+    /// Extreme Tux Racer's sky at frame 240 of a recorded race: the view matrix as loaded
+    /// (`glLoadMatrixd`, kept in f32 by GL), then `glTranslated(eye)` multiplied in f32, as
+    /// GL does. The translations cancel to 3.8e-6, not to zero.
+    #[test]
+    fn a_sky_translated_back_to_the_eye_in_f32_is_attached() {
+        let view: [f64; 16] = [
+            0.9999999899433455,
+            -4.850606486041612e-05,
+            0.0001332684167445536,
+            0.0,
+            0.0,
+            0.939691877479772,
+            0.3420221855355897,
+            0.0,
+            -0.0001418213990547369,
+            -0.3420221820959908,
+            0.9396918680296152,
+            0.0,
+            -45.20640719235146,
+            7.011277405905325,
+            92.07712093322687,
+            1.0,
+        ];
+        let eye = Vec3::new(45.19447585507766, -38.08085856849373, -84.13252061079893);
+        let sky = Mat4::from_cols_array(&view.map(|v| v as f32)) * Mat4::from_translation(eye);
+        let residual = sky.w_axis.truncate().abs().max_element();
+        assert!(residual > 1e-6, "{residual}: the f32 product cancels exactly here");
+        let p = perspective();
+        assert!(camera_attached(&p, &cols(sky), || false));
+        // The same sky 3,000 units from the origin (its longest courses), at the round-off
+        // modelled there: 3e-4 of the box's size.
+        let mut far = cols(sky);
+        far[12] = 3e-4;
+        assert!(camera_attached(&p, &far, || false));
     }
 
     #[test]
