@@ -147,18 +147,10 @@ fn legend(strip: &mut [u8], w: usize, range: f64) {
 }
 
 fn text_at(strip: &mut [u8], w: usize, x0: usize, y0: usize, text: &str) {
-    for (k, ch) in text.chars().enumerate() {
-        let glyph = font8x8::legacy::BASIC_LEGACY
-            .get(ch as usize)
-            .copied()
-            .unwrap_or_default();
-        for (gy, bits) in glyph.iter().enumerate() {
-            for gx in (0..8).filter(|gx| bits & (1 << gx) != 0) {
-                let (x, y) = (x0 + k * 8 + gx, y0 + gy);
-                if x < w && y < LEGEND_H {
-                    strip[(y * w + x) * 3..(y * w + x) * 3 + 3].copy_from_slice(&[255, 255, 255]);
-                }
-            }
+    for (gx, gy) in super::overlay::inked(text) {
+        let (x, y) = (x0 + gx, y0 + gy);
+        if x < w && y < LEGEND_H {
+            strip[(y * w + x) * 3..(y * w + x) * 3 + 3].copy_from_slice(&[255, 255, 255]);
         }
     }
 }

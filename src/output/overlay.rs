@@ -35,24 +35,32 @@ pub fn rasterise(lines: &[String], scale: usize) -> (usize, usize, Vec<u8>) {
     let mut rgba: Vec<u8> = PAPER.iter().copied().cycle().take(w * h * 4).collect();
     for (row, line) in lines.iter().enumerate() {
         let ink = if line.starts_with('>') { CHANGED } else { INK };
-        for (col, ch) in line.chars().enumerate() {
-            let glyph = font8x8::legacy::BASIC_LEGACY
-                .get(ch as usize)
-                .copied()
-                .unwrap_or_default();
-            for (gy, bits) in glyph.iter().enumerate() {
-                for gx in (0..8).filter(|gx| bits & (1 << gx) != 0) {
-                    for (sy, sx) in (0..scale).flat_map(|a| (0..scale).map(move |b| (a, b))) {
-                        let x = PAD + col * cell + gx * scale + sx;
-                        let y_top = PAD + row * line_h + gy * scale + sy;
-                        let at = ((h - 1 - y_top) * w + x) * 4;
-                        rgba[at..at + 4].copy_from_slice(&ink);
-                    }
-                }
+        for (gx, gy) in inked(line) {
+            for (sy, sx) in (0..scale).flat_map(|a| (0..scale).map(move |b| (a, b))) {
+                let x = PAD + gx * scale + sx;
+                let y_top = PAD + row * line_h + gy * scale + sy;
+                let at = ((h - 1 - y_top) * w + x) * 4;
+                rgba[at..at + 4].copy_from_slice(&ink);
             }
         }
     }
     (w, h, rgba)
+}
+
+/// The inked pixels of `text` in 8x8 glyphs (`font8x8`), as (x, y from the top) of an
+/// unscaled line.
+pub fn inked(text: &str) -> impl Iterator<Item = (usize, usize)> + '_ {
+    text.chars().enumerate().flat_map(|(col, ch)| {
+        let glyph = font8x8::legacy::BASIC_LEGACY
+            .get(ch as usize)
+            .copied()
+            .unwrap_or_default();
+        (0..8).flat_map(move |gy| {
+            (0..8)
+                .filter(move |gx| glyph[gy] & (1 << gx) != 0)
+                .map(move |gx| (col * 8 + gx, gy))
+        })
+    })
 }
 
 impl Overlay {
