@@ -142,7 +142,9 @@ mod tests {
             92.07712093322687,
             1.0,
         ];
-        let eye = Vec3::new(45.19447585507766, -38.08085856849373, -84.13252061079893);
+        // The eye as the game holds it in f64, rounded to the f32 that glTranslated passes on.
+        let eye = [45.19447585507766f64, -38.08085856849373, -84.13252061079893].map(|v| v as f32);
+        let eye = Vec3::from_array(eye);
         let sky = Mat4::from_cols_array(&view.map(|v| v as f32)) * Mat4::from_translation(eye);
         let residual = sky.w_axis.truncate().abs().max_element();
         assert!(residual > 1e-6, "{residual}: the f32 product cancels exactly here");
