@@ -111,6 +111,9 @@ fn fixed_attached(gl: &Gl, app: &mut AppState, mv: &Multiview, projection: &[f32
     attached
 }
 
+/// Longest `gl_Position` chain of uniforms read for the camera-attached test (P·V·M is 3).
+const MAX_CHAIN: usize = 8;
+
 /// Whether a draw of `info`'s program is attached to the camera: by the fixed model-view
 /// for programs built on the compatibility matrices, else by its `gl_Position` chain.
 fn program_attached(
@@ -128,15 +131,19 @@ fn program_attached(
         crate::camera::attached::camera_attached(&projection, &modelview, || app.depth_writes(gl))
     } else {
         let values = &app.current.current(group, app.program).matrices;
-        let chain: Option<Vec<[f32; 16]>> = info
-            .camera_chain
-            .iter()
-            .map(|loc| values.iter().find(|(l, _)| l == loc).map(|(_, m)| *m))
-            .collect();
+        // On the stack: this runs for every perspective draw, and replays do not allocate.
+        let mut chain = [[0f32; 16]; MAX_CHAIN];
+        let n = info.camera_chain.len();
+        let found = n <= MAX_CHAIN
+            && info
+                .camera_chain
+                .iter()
+                .zip(chain.iter_mut())
+                .all(|(loc, slot)| values.iter().find(|(l, _)| l == loc).map(|(_, m)| *slot = *m).is_some());
         let projection = info
             .projection_loc
             .and_then(|p| info.camera_chain.iter().position(|&l| l == p));
-        chain.is_some_and(|c| crate::camera::attached::chain_attached(&c, projection))
+        found && crate::camera::attached::chain_attached(&chain[..n], projection)
     };
     if attached {
         crate::log::once_for(

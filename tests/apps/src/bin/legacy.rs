@@ -79,16 +79,22 @@ impl Legacy {
         unsafe { gl.Frustum(-right as f64, right as f64, -top as f64, top as f64, 0.1, 100.0) };
     }
 
-    unsafe fn projection(gl: &Gl, v: &View) {
+    /// The frustum; in the reference quilt, its shear for the view (`at_infinity`: the
+    /// shear of infinity, for the sky).
+    unsafe fn projection(gl: &Gl, v: &View, at_infinity: bool) {
         unsafe {
             gl.MatrixMode(gl::PROJECTION);
             gl.LoadIdentity();
             Self::frustum(gl, v.aspect());
             if v.shear.is_some() {
-                // Reference quilt: replace the frustum by its sheared version.
                 let mut p = [0f32; 16];
                 gl.GetFloatv(gl::PROJECTION_MATRIX, p.as_mut_ptr());
-                gl.LoadMatrixf(v.projection(p).as_ptr());
+                let sheared = if at_infinity {
+                    v.projection_at_infinity(p)
+                } else {
+                    v.projection(p)
+                };
+                gl.LoadMatrixf(sheared.as_ptr());
             }
         }
     }
@@ -102,14 +108,7 @@ impl Legacy {
     /// that every part of it has texture to be found again in another view.
     unsafe fn sky(gl: &Gl, v: &View) {
         unsafe {
-            gl.MatrixMode(gl::PROJECTION);
-            gl.LoadIdentity();
-            Self::frustum(gl, v.aspect());
-            if v.shear.is_some() {
-                let mut p = [0f32; 16];
-                gl.GetFloatv(gl::PROJECTION_MATRIX, p.as_mut_ptr());
-                gl.LoadMatrixf(v.projection_at_infinity(p).as_ptr());
-            }
+            Self::projection(gl, v, true);
             gl.MatrixMode(gl::MODELVIEW);
             gl.LoadIdentity();
             gl.Rotatef(Self::pitch(), 1.0, 0.0, 0.0);
@@ -237,7 +236,7 @@ impl Scene for Legacy {
             if self.sky {
                 Self::sky(gl, v);
             }
-            Self::projection(gl, v);
+            Self::projection(gl, v, false);
             Self::setup_world(gl);
             Self::floor(gl);
             gl.PushMatrix();
