@@ -3,9 +3,7 @@
 // src/synth/disparity.rs for why q is formed before the multiplication).
 uniform sampler2DArray u_depth;
 uniform int u_layer;
-// (a_hi, a_lo, c/b, the window depth of the far clear): a pixel still at the clear was
-// drawn without depth (a sky behind everything) or not at all, and is at infinity, p = 1, as
-// exact mode puts far-plane and camera-attached draws (DESIGN §3), not at the far plane.
+// (a_hi, a_lo, c/b, unused)
 uniform vec4 u_model;
 // The comfort remap in tile pixels (off: z <= 0) and the outermost view's pixels per unit of
 // parallax: the parallax written is R(S·p)/S, so every warp moves pixels by the remapped
@@ -19,7 +17,7 @@ void main()
     float d = texelFetch(u_depth, ivec3(ivec2(gl_FragCoord.xy), u_layer), 0).r;
     float z = 2.0 * d - 1.0;
     float q = (z + u_model.x) + u_model.y;
-    float p = d == u_model.w ? 1.0 : 1.0 - u_model.z * q;
+    float p = 1.0 - u_model.z * q;
     float k = u_px_per_parallax;
     o_parallax = u_remap.z > 0.0 && k != 0.0 ? holoinject_remap(k * p, u_remap) / k : p;
 }

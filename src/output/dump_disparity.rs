@@ -6,8 +6,9 @@
 //! and `--depth-remap` uses, so one image reads the same at any view count. It is what the
 //! fast modes, auto-convergence and the comfort pass take a pixel's disparity to be: the
 //! scene's depth where the main camera drew it (`scene::convergence::view_depth`), through
-//! the scene's depth model. Red stands in front of the screen, white on it, blue behind;
-//! the darkest blue is infinity; grey is a pixel with no scene depth.
+//! the scene's depth model (a pixel at the far clear, a sky drawn without depth, at the far
+//! plane). Red stands in front of the screen, white on it, blue behind; the darkest blue is
+//! infinity; grey is a pixel with no scene depth.
 
 use crate::camera::projection::DepthRange;
 use crate::config::Settings;
@@ -30,13 +31,10 @@ struct Disparity {
 
 impl Disparity {
     fn of_depth(&self, d: f32) -> f64 {
-        // The far clear (nothing drawn with depth there: a sky) is at infinity, as the warps
-        // take it (`synth::disparity::ParallaxModel::parallax_f32`).
-        let cleared = if self.model.b > 0.0 { d == 0.0 } else { d == 1.0 };
         let d = f64::from(d);
         let z = if self.zero_to_one { d } else { 2.0 * d - 1.0 };
         let w = self.model.w_of_ndc(z);
-        let parallax = if w.is_finite() && w > 0.0 && !cleared {
+        let parallax = if w.is_finite() && w > 0.0 {
             1.0 - self.convergence / w
         } else {
             1.0
@@ -186,9 +184,8 @@ mod tests {
         assert!(m.of_depth(window_depth(&m, 10.0)).abs() < 1e-3);
         assert!(m.of_depth(window_depth(&m, 50.0)) > 0.0);
         assert!(m.of_depth(window_depth(&m, 2.0)) < 0.0);
-        // The far plane itself, and the far clear: infinity's disparity.
-        assert!((m.of_depth(window_depth(&m, 99.0)) - 16.0 * (1.0 - 10.0 / 99.0)).abs() < 1e-2);
-        assert_eq!(m.of_depth(1.0), 16.0);
+        // The far clear is the far plane, as the warps take it.
+        assert!((m.of_depth(1.0) - 16.0 * (1.0 - 10.0 / 100.0)).abs() < 1e-2);
     }
 
     #[test]

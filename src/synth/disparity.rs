@@ -47,12 +47,8 @@ impl ParallaxModel {
         })
     }
 
-    /// The shader's arithmetic, in f32 (for tests and the precision table); the far clear is
-    /// at infinity.
+    /// The shader's arithmetic, in f32 (for tests and the precision table).
     pub fn parallax_f32(&self, d: f32) -> f32 {
-        if d == self.far_depth() {
-            return 1.0;
-        }
         let z = 2.0 * d - 1.0;
         let q = (z + self.a_hi) + self.a_lo;
         1.0 - self.scale * q
@@ -109,10 +105,6 @@ mod tests {
             let w = near * (far / near).powf(k as f64 / 400.0);
             let d = stored(depth, w);
             if !(0.0..=1.0).contains(&d) {
-                continue;
-            }
-            // The far clear is at infinity by rule, not by arithmetic.
-            if d as f32 == m.far_depth() {
                 continue;
             }
             let exact = parallax_f64(depth, c, d);

@@ -147,7 +147,7 @@ impl Pass<'_> {
             gl.Uniform1i(loc(gl, p.parallax, "u_depth"), 0);
             gl.Uniform1i(loc(gl, p.parallax, "u_layer"), j as i32);
             let m = job.model;
-            gl.Uniform4f(loc(gl, p.parallax, "u_model"), m.a_hi, m.a_lo, m.scale, m.far_depth());
+            gl.Uniform4f(loc(gl, p.parallax, "u_model"), m.a_hi, m.a_lo, m.scale, 0.0);
             let r = job.remap;
             gl.Uniform4f(loc(gl, p.parallax, "u_remap"), r[0], r[1], r[2], r[3]);
             let k = job.depthiness * job.tile.0 as f64 / 2.0;

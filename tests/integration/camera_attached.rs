@@ -84,10 +84,11 @@ fn a_sky_box_around_the_eye_moves_as_infinity() {
 }
 
 /// `--dump-disparity` shows what the fast modes and the comfort pass take each pixel's
-/// disparity to be: the sky, drawn without depth writes, at infinity (the legend's far
-/// end, `[10, 40, 150]`), the near floor in front of the screen (red), in every view.
+/// disparity to be: the sky, drawn without depth writes, at the far clear (`0.1 × 160 ×
+/// (1 − 13/100)` = 13.9 px behind, the colour `[42, 68, 164]`), the near floor in front of
+/// the screen (red), in every view.
 #[test]
-fn the_disparity_dump_puts_the_sky_at_infinity_and_the_near_floor_in_front() {
+fn the_disparity_dump_puts_the_sky_at_the_far_clear_and_the_near_floor_in_front() {
     let dir = temp_dir("sky_disparity_dump");
     let dump = dir.join("dump");
     let mut options = vec![
@@ -114,8 +115,8 @@ fn the_disparity_dump_puts_the_sky_at_infinity_and_the_near_floor_in_front() {
         let sky = img.pixel(x0 + 250, y0 + 10).unwrap();
         assert_eq!(
             sky,
-            [10, 40, 150],
-            "view {view}: the sky is not at infinity in the dump"
+            [42, 68, 164],
+            "view {view}: the sky is not at the far clear in the dump"
         );
         let floor = img.pixel(x0 + 160, y0 + 235).unwrap();
         assert!(
