@@ -2,6 +2,10 @@
 // Parallax p = 1 - c/w of each pixel of a rendered view, from its window depth (see
 // src/synth/disparity.rs for why q is formed before the multiplication).
 uniform sampler2DArray u_depth;
+// The disparity record (parallax, recorded?) of this source, when it has one (u_recorded): a
+// recorded pixel carries the parallax its draw was shifted by, remapped already.
+uniform sampler2DArray u_record;
+uniform int u_recorded;
 uniform int u_layer;
 // (a_hi, a_lo, c/b, unused)
 uniform vec4 u_model;
@@ -14,6 +18,13 @@ out float o_parallax;
 
 void main()
 {
+    if (u_recorded == 1) {
+        vec2 r = texelFetch(u_record, ivec3(ivec2(gl_FragCoord.xy), u_layer), 0).rg;
+        if (r.g > 0.5) {
+            o_parallax = r.r;
+            return;
+        }
+    }
     float d = texelFetch(u_depth, ivec3(ivec2(gl_FragCoord.xy), u_layer), 0).r;
     float z = 2.0 * d - 1.0;
     float q = (z + u_model.x) + u_model.y;

@@ -5,6 +5,9 @@
 // Drawn with glDrawArrays(GL_POINTS, 0, w·h): the pixel is gl_VertexID.
 uniform sampler2DArray u_color;
 uniform sampler2DArray u_depth;
+// The disparity record (parallax, recorded?) when the source has one (u_recorded).
+uniform sampler2DArray u_record;
+uniform int u_recorded;
 uniform int u_layer;
 uniform ivec2 u_tile;
 uniform float u_du;
@@ -28,6 +31,9 @@ void main()
     float p = 1.0 - u_model.z * q;
     if (u_remap.z > 0.0 && u_px.x != 0.0)
         p = holoinject_remap(u_px.x * p, u_remap) / u_px.x;
+    vec2 rec = u_recorded == 1 ? texelFetch(u_record, ivec3(src, u_layer), 0).rg : vec2(0.0);
+    if (rec.g > 0.5)
+        p = rec.r;
     float x = float(src.x) + 0.5 + u_du * (u_px.x * p + u_px.y);
     vec2 pos = vec2(x, float(src.y) + 0.5) / vec2(u_tile) * 2.0 - 1.0;
     float z = u_zero_to_one == 1 ? depth : 2.0 * depth - 1.0;

@@ -152,6 +152,12 @@ impl Settings {
         self.view.output != Output::Mono
     }
 
+    /// Rendered views record each pixel's disparity (`shader::record`): the fast modes read
+    /// it. Decided at link time, so a mode chosen later reads depth only.
+    pub fn records_disparity(&self) -> bool {
+        self.multiview() && self.view.disparity_record && self.view.mode != Mode::Exact
+    }
+
     pub fn dumps(&self, frame: u64) -> bool {
         self.dump_dir.is_some() && self.dump_frames.contains(frame)
     }

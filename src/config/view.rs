@@ -29,6 +29,8 @@ pub struct ViewSettings {
     pub fbo_views: FboViews,
     /// Draws attached to the camera (a sky around the eye) at infinity (`camera::attached`).
     pub sky_at_infinity: bool,
+    /// The fast modes read the disparity each draw gave its pixels (`shader::record`).
+    pub disparity_record: bool,
     pub fbo_scale: FboScale,
     pub depthiness: Option<f64>,
     /// Angle (degrees) between the outermost cameras as seen from the convergence plane.
@@ -102,6 +104,7 @@ impl ViewSettings {
             "depthiness" => self.depthiness = parse::finite(value).ok(),
             "fbo-views" => self.fbo_views = parse::fbo_views(value).unwrap_or(FboViews::Auto),
             "sky-at-infinity" => self.sky_at_infinity = parse::switch(value).unwrap_or(true),
+            "disparity-record" => self.disparity_record = parse::switch(value).unwrap_or(true),
             "fbo-scale" => self.fbo_scale = parse::fbo_scale(value).unwrap_or(FboScale::Window),
             "view-cone" => self.view_cone = parse::view_cone(value).ok(),
             "convergence" => self.convergence = parse::convergence(value).unwrap_or(Convergence::Auto),
@@ -140,6 +143,7 @@ impl Default for ViewSettings {
             weave_filter: WeaveFilter::BlendNext,
             fbo_views: FboViews::Auto,
             sky_at_infinity: true,
+            disparity_record: true,
             fbo_scale: FboScale::Window,
             depthiness: None,
             view_cone: None,

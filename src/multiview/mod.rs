@@ -112,6 +112,10 @@ pub struct Multiview {
     pub auto: Option<auto::Auto>,
     /// `--reuse`: the rotation of rendered views and the history quilt.
     pub reuse: Option<reuse::Reuse>,
+    /// Each rendered view's disparity per pixel, as its draws gave it (`quilt::record`).
+    pub record: crate::multiview::quilt::record::DisparityRecord,
+    /// Per-buffer blending and DSA are there: the record can be written.
+    pub record_supported: bool,
 }
 
 impl Multiview {
@@ -154,6 +158,8 @@ impl Multiview {
             measure,
             auto,
             reuse,
+            record: Default::default(),
+            record_supported: !info.es && info.at_least(4, 5),
         }
     }
 
@@ -193,6 +199,7 @@ impl Multiview {
         o.textures.extend(textures);
         o.programs.extend(program);
         o.append(self.synth.shared_objects());
+        o.textures.extend(self.record.textures());
         if let Some(m) = &self.measure {
             o.textures.push(m.texture());
         }

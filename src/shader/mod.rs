@@ -38,6 +38,7 @@ mod ast_values;
 mod ast_walk;
 mod findings;
 pub mod fragcoord;
+pub mod record;
 mod rewrite;
 #[cfg(test)]
 mod tests;
@@ -49,7 +50,7 @@ mod text;
 mod text_scan;
 
 pub use analyse::{analyse, parse_error};
-pub use rewrite::rewrite;
+pub use rewrite::{rewrite, rewrite_recording};
 
 /// The uniform the rewritten shader reads: `(k, c, h, mode)`, see [`ViewMode`].
 pub const VIEW_UNIFORM: &str = "holoinject_view";

@@ -6,18 +6,30 @@
 //! inserted block ends with a `#line` so the app's own line numbers are unchanged.
 
 use super::text::{self, Directive};
+use super::record::RECORD_VARYING;
 use super::{Analysis, Stage, VIEW_SHIFT_GLSL};
 
 pub fn rewrite(source: &str, analysis: &Analysis) -> Result<String, String> {
+    rewrite_recording(source, analysis, false)
+}
+
+/// `rewrite`, and with `record` the parallax each vertex's shift gives it passed on to the
+/// fragment shader (`holoinject_parallax_w`, see `record`); refused where it cannot be.
+pub fn rewrite_recording(source: &str, analysis: &Analysis, record: bool) -> Result<String, String> {
     let blanked = text::blank_comments(source);
     refuse(&blanked, analysis)?;
     let dirs = text::directives(&blanked);
     if !conditionals_balanced(&dirs) {
         return Err("unbalanced #if/#else/#endif".into());
     }
+    let record = if record {
+        Some(super::record::varying(text::version(&dirs).map(|v| v.0), true).ok_or("no disparity record in GLSL ES")?)
+    } else {
+        None
+    };
     match analysis.stage {
-        Stage::Geometry => Ok(rewrite_geometry(source, &blanked, &dirs)),
-        _ => rewrite_main(source, &blanked, &dirs, analysis),
+        Stage::Geometry => Ok(rewrite_geometry(source, &blanked, &dirs, record.as_deref())),
+        _ => rewrite_main(source, &blanked, &dirs, analysis, record.as_deref()),
     }
 }
 
@@ -32,6 +44,7 @@ fn refuse(blanked: &str, analysis: &Analysis) -> Result<(), String> {
         "holoinject_view",
         "holoinject_remap",
         "holoinject_comfort",
+        RECORD_VARYING,
     ]
     .iter()
     .any(|name| text::has_ident(blanked, name))
@@ -69,7 +82,7 @@ fn refuse(blanked: &str, analysis: &Analysis) -> Result<(), String> {
 /// Conditionals that do not pair up (`#else` without `#if`, an `#if` never closed, two
 /// `#else`s): Mesa may still compile such a source, but text appended after it would land
 /// inside, or trip over, the open block (found by the `glsl_compiles` fuzz target).
-fn conditionals_balanced(dirs: &[Directive]) -> bool {
+pub(super) fn conditionals_balanced(dirs: &[Directive]) -> bool {
     let mut open: Vec<bool> = vec![]; // per open #if: has it had its #else?
     for d in dirs {
         match d.name.as_str() {
@@ -86,7 +99,7 @@ fn conditionals_balanced(dirs: &[Directive]) -> bool {
 
 /// Is every `main (` of the text inside some `#if` block? Then, unless glsl-lang evaluated
 /// the conditions, we cannot tell whether the compiler sees a `main` at all.
-fn main_only_under_conditionals(blanked: &str, dirs: &[Directive]) -> bool {
+pub(super) fn main_only_under_conditionals(blanked: &str, dirs: &[Directive]) -> bool {
     let lines = blanked.lines().count() + 1;
     let mut depth_at_line = vec![0usize; lines];
     let mut depth = 0usize;
@@ -119,7 +132,13 @@ fn main_only_under_conditionals(blanked: &str, dirs: &[Directive]) -> bool {
     !mains.is_empty() && mains.iter().all(|&i| depth_at_line[i] > 0)
 }
 
-fn rewrite_main(source: &str, blanked: &str, dirs: &[Directive], analysis: &Analysis) -> Result<String, String> {
+fn rewrite_main(
+    source: &str,
+    blanked: &str,
+    dirs: &[Directive],
+    analysis: &Analysis,
+    record: Option<&str>,
+) -> Result<String, String> {
     if analysis.has_main.is_none() && main_only_under_conditionals(blanked, dirs) {
         return Err("main() only under #if, and the conditions could not be evaluated".into());
     }
@@ -138,9 +157,14 @@ fn rewrite_main(source: &str, blanked: &str, dirs: &[Directive], analysis: &Anal
         "#define main holoinject_app_main\n{}",
         line_directive(version.map(|v| v.0), next_line + 1)
     );
-    let tail = "#undef main\n".to_string()
-        + VIEW_SHIFT_GLSL
-        + "void main()\n{\n    holoinject_app_main();\n    gl_Position = holoinject_shift(gl_Position);\n}\n";
+    let (decl, set) = match record {
+        Some(decl) => (decl, format!("    {RECORD_VARYING} = holoinject_parallax_of(gl_Position);\n")),
+        None => ("", String::new()),
+    };
+    let tail = format!(
+        "#undef main\n{VIEW_SHIFT_GLSL}{decl}void main()\n{{\n    holoinject_app_main();\n{set}    \
+         gl_Position = holoinject_shift(gl_Position);\n}}\n"
+    );
     Ok(splice(source, offset, &head, &tail))
 }
 
@@ -158,7 +182,7 @@ fn anchor_line(dirs: &[Directive]) -> Option<usize> {
     anchor.map(|line| text::line_after_conditionals(dirs, line))
 }
 
-fn rewrite_geometry(source: &str, blanked: &str, dirs: &[Directive]) -> String {
+fn rewrite_geometry(source: &str, blanked: &str, dirs: &[Directive], record: Option<&str>) -> String {
     let version = text::version(dirs);
     let (offset, next_line) = anchor_line(dirs)
         .and_then(|line| text::offset_after_line(source, line))
@@ -176,7 +200,16 @@ fn rewrite_geometry(source: &str, blanked: &str, dirs: &[Directive]) -> String {
     }
     head += &line_directive(version.map(|v| v.0), next_line + 1);
     tail += VIEW_SHIFT_GLSL;
-    tail += "void holoinject_shift_position()\n{\n    gl_Position = holoinject_shift(gl_Position);\n}\n\
+    if let Some(decl) = record {
+        tail += decl;
+        tail += &format!(
+            "void holoinject_shift_position()\n{{\n    {RECORD_VARYING} = holoinject_parallax_of(gl_Position);\n    \
+             gl_Position = holoinject_shift(gl_Position);\n}}\n"
+        );
+    } else {
+        tail += "void holoinject_shift_position()\n{\n    gl_Position = holoinject_shift(gl_Position);\n}\n";
+    }
+    tail += "\
              void holoinject_emit()\n{\n    holoinject_shift_position();\n    EmitVertex();\n}\n";
     // Bodies go last: an app redeclaring `out gl_PerVertex` must do so before any use.
     splice(source, offset, &head, &tail)
@@ -214,7 +247,7 @@ pub(super) fn line_directive(version: Option<(u32, bool)>, next: usize) -> Strin
 
 /// Whether the code (comments blanked) has a `main (` at the top level: a definition or a
 /// prototype; calls to `main` are illegal GLSL.
-fn defines_main(blanked: &str) -> bool {
+pub(super) fn defines_main(blanked: &str) -> bool {
     let toks = text::tokens(blanked);
     toks.windows(2).any(|w| w[0].is_ident("main") && w[1].is_punct("("))
 }

@@ -48,6 +48,8 @@ pub struct ProgramInfo {
     pub pixel_addressing: Option<&'static str>,
     /// gl_Position is given directly (full-screen passes, NDC quads): not the main camera.
     pub identity: bool,
+    /// Its fragment shader writes the disparity record (`shader::record`).
+    pub records: bool,
     /// The view uniform holds the centre view's values (so single draws need no update).
     pub centre_set: AtomicBool,
     /// Active-uniform indices of our own uniforms, ascending: hidden from the app's

@@ -45,6 +45,9 @@ pub struct Source {
     pub color: (u32, [i32; 4]),
     /// Framebuffer and rectangle holding its depth.
     pub depth: (u32, [i32; 4]),
+    /// Framebuffer (its colour attachment 0) and rectangle holding its disparity record
+    /// (`shader::record`), when it was recorded.
+    pub record: Option<(u32, [i32; 4])>,
 }
 
 /// A view to synthesise.
@@ -97,6 +100,8 @@ pub struct Synthesizer {
     pixel: pixel::PixelSynth,
     /// Sources and depth format of the depth `capture_depth` copied for the next warp.
     captured: Option<(usize, GLenum)>,
+    /// Bit j: source j's disparity record is in our array (with the depth it was taken with).
+    recorded: u64,
 }
 
 impl Synthesizer {
@@ -141,13 +146,18 @@ impl Synthesizer {
         let captured = self.captured.take();
         let kept = self.prepare(gl, job.tile, job.sources.len(), job.depth_format, grid);
         let res = self.resources.as_ref().ok_or("no resources")?;
+        let depth_ready = kept && captured == Some((job.sources.len(), job.depth_format));
+        if !depth_ready {
+            self.recorded = pass::copy_records(gl, self.fbo, res, job.sources.iter().map(|s| s.record));
+        }
         let pass = pass::Pass {
             gl,
             programs: &programs,
             res,
             fbo: self.fbo,
             vao: self.vao,
-            depth_ready: kept && captured == Some((job.sources.len(), job.depth_format)),
+            depth_ready,
+            recorded: self.recorded,
         };
         if job.per_pixel {
             return self.pixel.run(gl, info, &pass, job);
@@ -203,9 +213,8 @@ impl Synthesizer {
         gl: &Gl,
         info: GlInfo,
         depths: &[(u32, [i32; 4])],
-        tile: (i32, i32),
-        depth_format: GLenum,
-        grid: bool,
+        records: &[Option<(u32, [i32; 4])>],
+        (tile, depth_format, grid): ((i32, i32), GLenum, bool),
     ) {
         let _guard = pass::guard(gl, info);
         crate::gl::guard::neutral_pass_state(gl, info);
@@ -214,6 +223,7 @@ impl Synthesizer {
         for (j, &d) in depths.iter().enumerate() {
             pass::copy_depth(gl, self.fbo, res, j, d, depth_format);
         }
+        self.recorded = pass::copy_records(gl, self.fbo, res, records.iter().copied());
         self.captured = Some((depths.len(), depth_format));
     }
 

@@ -50,6 +50,23 @@ pub struct Pass<'a> {
     pub vao: u32,
     /// The sources' depth is in our array already (`Synthesizer::capture_depth`).
     pub depth_ready: bool,
+    /// Bit j: source j's disparity record is in `res.record` (else its depth is converted).
+    pub recorded: u64,
+}
+
+/// Each source's disparity record (read framebuffer, rectangle) into its layer of our
+/// record array, scaled to the tile like its depth; the bits of those copied.
+pub fn copy_records(gl: &Gl, fbo: u32, res: &Resources, records: impl Iterator<Item = Option<(u32, [i32; 4])>>) -> u64 {
+    let mut bits = 0;
+    for (j, rec) in records.enumerate().take(64) {
+        let Some(src) = rec else { continue };
+        detach_all(gl, fbo);
+        attach(gl, fbo, COLOR_ATTACHMENT0, res.record, j);
+        blit(gl, src.0, src.1, res.tile, COLOR_BUFFER_BIT);
+        bits |= 1 << j;
+    }
+    detach_all(gl, fbo);
+    bits
 }
 
 /// Attaches layer `layer` of `texture` (0: nothing) at `point` of our framebuffer `fbo`,
@@ -141,10 +158,13 @@ impl Pass<'_> {
     pub fn parallax(&self, j: usize, job: &Job) {
         let (gl, p, res) = (self.gl, self.programs, self.res);
         self.bind_array(0, res.depth);
+        self.bind_array(1, res.record);
         // SAFETY: uniforms of our own program.
         unsafe {
             gl.UseProgram(p.parallax);
             gl.Uniform1i(loc(gl, p.parallax, "u_depth"), 0);
+            gl.Uniform1i(loc(gl, p.parallax, "u_record"), 1);
+            gl.Uniform1i(loc(gl, p.parallax, "u_recorded"), (self.recorded >> j & 1) as i32);
             gl.Uniform1i(loc(gl, p.parallax, "u_layer"), j as i32);
             let m = job.model;
             gl.Uniform4f(loc(gl, p.parallax, "u_model"), m.a_hi, m.a_lo, m.scale, 0.0);

@@ -107,6 +107,7 @@ impl PixelSynth {
             fbo: self.fbos[0],
             vao: pass.vao,
             res: pass.res,
+            recorded: pass.recorded,
         };
         splat.prepare(job);
         let fill = super::pull_push::Fill {
@@ -171,6 +172,7 @@ struct Splat<'a> {
     fbo: u32,
     vao: u32,
     res: &'a super::resources::Resources,
+    recorded: u64,
 }
 
 impl Splat<'_> {
@@ -185,6 +187,7 @@ impl Splat<'_> {
             gl.UseProgram(p);
             gl.Uniform1i(loc("u_color"), 0);
             gl.Uniform1i(loc("u_depth"), 1);
+            gl.Uniform1i(loc("u_record"), 2);
             gl.Uniform2i(loc("u_tile"), job.tile.0, job.tile.1);
             gl.Uniform2f(loc("u_px"), (job.depthiness * px) as f32, (job.focus * px) as f32);
             gl.Uniform3f(loc("u_model"), m.a_hi, m.a_lo, m.scale);
@@ -195,6 +198,8 @@ impl Splat<'_> {
             gl.BindTexture(TEXTURE_2D_ARRAY, self.res.color);
             gl.ActiveTexture(TEXTURE1);
             gl.BindTexture(TEXTURE_2D_ARRAY, self.res.depth);
+            gl.ActiveTexture(TEXTURE2);
+            gl.BindTexture(TEXTURE_2D_ARRAY, self.res.record);
         }
     }
 
@@ -219,9 +224,10 @@ impl Splat<'_> {
             gl.UseProgram(self.program);
             gl.BindVertexArray(self.vao);
         }
-        let (u_du, u_layer) = (
+        let (u_du, u_layer, u_recorded) = (
             pass::loc(gl, self.program, "u_du"),
             pass::loc(gl, self.program, "u_layer"),
+            pass::loc(gl, self.program, "u_recorded"),
         );
         let second = (t.sources[1] != t.sources[0]).then_some(t.sources[1]);
         for j in second.into_iter().chain(std::iter::once(t.sources[0])) {
@@ -229,6 +235,7 @@ impl Splat<'_> {
             unsafe {
                 gl.Uniform1f(u_du, (t.u - job.sources[j].u) as f32);
                 gl.Uniform1i(u_layer, j as i32);
+                gl.Uniform1i(u_recorded, (self.recorded >> j & 1) as i32);
                 gl.DrawArrays(POINTS, 0, tw * th);
             }
         }

@@ -22,6 +22,8 @@ pub struct Resources {
     pub color: u32,
     pub depth: u32,
     pub parallax: u32,
+    /// The sources' disparity records (`shader::record`): (parallax, recorded?).
+    pub record: u32,
     /// The grid's storage from here on (all 0 when the grid is not used).
     pub levels: [u32; LEVELS],
     pub leaves: u32,
@@ -89,6 +91,7 @@ impl Resources {
             color: array(gl, RGBA8, tile, sources, LINEAR),
             depth: array(gl, depth_format, tile, sources, NEAREST),
             parallax: array(gl, R32F, tile, sources, NEAREST),
+            record: array(gl, RG32F, tile, sources, NEAREST),
             levels: [0; LEVELS],
             leaves: 0,
             leaf_view: 0,
@@ -117,7 +120,7 @@ impl Resources {
     }
 
     pub fn textures(&self) -> Vec<u32> {
-        let mut t = vec![self.color, self.depth, self.parallax, self.leaf_view];
+        let mut t = vec![self.color, self.depth, self.parallax, self.record, self.leaf_view];
         t.extend(self.levels);
         t.retain(|&t| t != 0);
         t

@@ -63,6 +63,7 @@ pub fn end_frame(gl: &Gl, mv: &mut Multiview, frame: u64) {
         ));
     }
     mv.synth.forget_capture();
+    mv.record.clear(gl);
     super::reuse::plan_next_frame(mv, frame + 1);
     let measured = mv
         .settings
@@ -115,6 +116,8 @@ pub fn capture_depth(gl: &Gl, mv: &mut Multiview) {
         .iter()
         .map(|&r| (depth_fbo(r), depth_rect(r)))
         .collect();
+    drop((depth_fbo, depth_rect));
+    let records = records(gl, mv, &layout);
     let source = depths.first().map_or(quilt, |d| d.0);
     let format = mv.scene.described(source).map_or_else(
         || {
@@ -123,7 +126,6 @@ pub fn capture_depth(gl: &Gl, mv: &mut Multiview) {
         },
         Ok,
     );
-    drop((depth_fbo, depth_rect));
     let Ok(format) =
         format.map_err(|e| log::debug(format_args!("synthesis: the scene's depth is not captured early: {e}")))
     else {
@@ -136,7 +138,7 @@ pub fn capture_depth(gl: &Gl, mv: &mut Multiview) {
     let tile = (layout.tile_w as i32, layout.tile_h as i32);
     let info = mv.info;
     let mut synth = std::mem::take(&mut mv.synth);
-    synth.capture_depth(gl, info, &depths, tile, format.format, grid);
+    synth.capture_depth(gl, info, &depths, &records, (tile, format.format, grid));
     mv.synth = synth;
 }
 
@@ -160,7 +162,7 @@ fn try_warp(gl: &Gl, mv: &mut Multiview, kept: &[u32]) -> Result<(), String> {
     if format.multisampled {
         return Err("the scene's depth is multisampled".into());
     }
-    let sources: Vec<Source> = mv
+    let mut sources: Vec<Source> = mv
         .plan
         .rendered
         .iter()
@@ -168,8 +170,13 @@ fn try_warp(gl: &Gl, mv: &mut Multiview, kept: &[u32]) -> Result<(), String> {
             u: rig.u(r),
             color: (quilt, layout.tile_rect(r)),
             depth: (depth_fbo(r), depth_rect(r)),
+            record: None,
         })
         .collect();
+    drop((depth_fbo, depth_rect));
+    for (s, rec) in sources.iter_mut().zip(records(gl, mv, &layout)) {
+        s.record = rec;
+    }
     let index = |v: u32| mv.plan.rendered.iter().position(|&r| r == v).unwrap_or(0);
     let targets: Vec<Target> = (0..layout.views())
         .filter(|&i| !mv.plan.rendered.contains(&i) && !kept.contains(&i))
@@ -220,11 +227,20 @@ fn try_warp(gl: &Gl, mv: &mut Multiview, kept: &[u32]) -> Result<(), String> {
         ));
     }
     let info = mv.info;
-    drop((depth_fbo, depth_rect));
     let mut synth = std::mem::take(&mut mv.synth);
     let result = synth.warp(gl, info, &job);
     mv.synth = synth;
     result
+}
+
+/// Where each rendered view's disparity record is read (`replay::record` says when there is
+/// one).
+fn records(gl: &Gl, mv: &mut Multiview, layout: &crate::multiview::quilt::layout::QuiltLayout) -> Vec<Option<(u32, [i32; 4])>> {
+    let rendered = mv.plan.rendered.clone();
+    rendered
+        .iter()
+        .map(|&r| crate::multiview::quilt::record::source(gl, mv, r, layout.tile_rect(r)))
+        .collect()
 }
 
 /// The framebuffer and rectangle holding view `r`'s scene depth, as functions of `r`.

@@ -6,5 +6,6 @@
 
 pub mod comfort;
 pub mod layout;
+pub mod record;
 pub mod target;
 pub mod window_format;

@@ -17,6 +17,7 @@ use super::shift::{self, Shift};
 use crate::gl::*;
 use crate::multiview::Multiview;
 use crate::multiview::quilt::layout::{QuiltLayout, intersect};
+use crate::multiview::quilt::record::DisparityRecord;
 use crate::multiview::shadows::layers;
 use crate::multiview::shadows::scale::LayerScale;
 use crate::multiview::shadows::substitute::{self, Substitutions};
@@ -90,6 +91,7 @@ fn replay(
     let fixed = matches!(shift, Shift::Projection { .. });
     let app_matrix_mode = fixed.then(|| app.matrix_mode(gl));
     let scissored = app.enabled(gl, SCISSOR_TEST);
+    let blending = super::record::wanted(app, mv) && app.enabled(gl, BLEND);
     let app: &AppState = app;
     let identity = matches!(shift, Shift::Uniform { camera: false, .. });
     screen_space::camera_uniforms(app, mv, identity, &mut scratch.camera_uniforms);
@@ -116,9 +118,14 @@ fn replay(
             set_view(mv, i);
             set_fragcoord(gl, app.program, fragcoord, Some((layout, i)));
         };
+        let recorded = super::record::quilt(gl, app, mv, blending);
         draw_tiles(gl, app, mv, layout, scissored, set_tile, f);
+        if recorded {
+            mv.record.after_draw(gl);
+        }
         set_fragcoord(gl, app.program, fragcoord, None);
     } else if let Some(views) = layers::target_views(gl, mv, app.draw_fbo, shift.camera(), subs) {
+        let record = super::record::shadow(gl, app, mv, blending);
         let scale = mv.shadows.get(&app.draw_fbo).map_or(LayerScale::ONE, |s| s.scale);
         let fragcoord = current_info(app).map_or(-1, |p| p.fragcoord_loc);
         let scaled = (!scale.is_one()).then(|| scale_pass(gl, app, scale, scissored, fragcoord));
@@ -129,8 +136,14 @@ fn replay(
             }
             // SAFETY: our view framebuffer in place of the app's; rebound below.
             unsafe { gl.BindFramebuffer(DRAW_FRAMEBUFFER, fbo) };
+            if let Some(img) = record {
+                DisparityRecord::attach_bound(gl, img, i as i32);
+            }
             set_view(mv, i as u32);
             f(i as u32);
+        }
+        if record.is_some() {
+            mv.record.after_draw(gl);
         }
         // SAFETY: the app's own framebuffer back.
         unsafe { gl.BindFramebuffer(DRAW_FRAMEBUFFER, app.draw_fbo) };

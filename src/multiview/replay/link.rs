@@ -60,33 +60,64 @@ fn last_position_stage(gl: &Gl, shaders: &[u32]) -> Option<(u32, Stage)> {
         .find_map(|want| staged.iter().copied().find(|(_, st)| *st == want))
 }
 
-/// Links `program` (through `link`, the real glLinkProgram) with the view shift injected.
+/// Links `program` (through `link`, the real glLinkProgram) with the view shift injected, and
+/// with the disparity record (`shader::record`) when the fast modes read it; a link that
+/// fails with the record is tried again without it, then with the app's own sources.
 pub fn link_program(gl: &Gl, group: &ShareGroup, program: u32, link: impl Fn()) {
+    let record = crate::config::settings().records_disparity()
+        && gl.BlendFunci.is_loaded()
+        && gl.BindFragDataLocation.is_loaded();
+    if record && link_with(gl, group, program, &link, true) {
+        return;
+    }
+    link_with(gl, group, program, &link, false);
+}
+
+/// One attempt; false when it failed with the record (the sources are the app's again).
+fn link_with(gl: &Gl, group: &ShareGroup, program: u32, link: &impl Fn(), record: bool) -> bool {
     let shaders = attached_shaders(gl, program);
     let Some((shader, stage)) = last_position_stage(gl, &shaders) else {
-        return link();
+        link();
+        return true;
     };
     let known = group.lock().original_sources.get(&shader).cloned();
     let original = known.clone().unwrap_or_else(|| source_of(gl, shader));
     let analysis = shader::analyse(&original, stage);
-    let rewritten = known.is_some() || try_rewrite(gl, group, shader, &original, &analysis, program);
+    let rewritten = match known {
+        // Rewritten for another program: with the record or without, as that one needed.
+        Some(_) if record && !source_of(gl, shader).contains(shader::record::RECORD_VARYING) => {
+            compile(gl, shader, &original);
+            group.lock().original_sources.remove(&shader);
+            try_rewrite(gl, group, shader, &original, &analysis, program, record)
+        }
+        Some(_) => true,
+        None => try_rewrite(gl, group, shader, &original, &analysis, program, record),
+    };
     let fs = fragment_shader(gl, &shaders);
     let fs_source = fs.map(|fs| app_source(gl, group, fs));
     let fragment = fs.and_then(|fs| rewrite_fragcoord(gl, group, fs, program));
     let pixel_addressing = fs_source.and_then(|src| shader::fragcoord::pixel_addressing(&src, fragment.is_some()));
+    let varying = rewritten && source_of(gl, shader).contains(shader::record::RECORD_VARYING);
+    let recorded = match fs.filter(|_| record && varying) {
+        Some(fs) => record_fragment(gl, group, fs, program),
+        None => None,
+    };
+    let fragment = fragment.or(recorded.as_ref().map(|_| fs.unwrap_or(0)));
     link();
     let linked = {
         let mut ok = 0;
         // SAFETY: single-integer program query.
         unsafe { gl.GetProgramiv(program, LINK_STATUS, &mut ok) };
-        ok != 0
+        ok != 0 && recorded.as_ref().is_none_or(|outputs| outputs_clear_of_record(gl, program, outputs))
     };
     if (rewritten || fragment.is_some()) && !linked {
-        crate::log::limited(
-            "link",
-            crate::log::Level::Warn,
-            format_args!("program {program}: link failed with our edits; linking the app's original"),
-        );
+        if !record {
+            crate::log::limited(
+                "link",
+                crate::log::Level::Warn,
+                format_args!("program {program}: link failed with our edits; linking the app's original"),
+            );
+        }
         for s in [Some(shader).filter(|_| rewritten), fragment].into_iter().flatten() {
             // Not `if let … = group.lock()…`: the guard would live through the compile, and GL
             // may call the app back from inside it (see `state::lock`).
@@ -96,12 +127,56 @@ pub fn link_program(gl: &Gl, group: &ShareGroup, program: u32, link: impl Fn()) 
             }
         }
         compile(gl, shader, &original);
+        if record {
+            crate::log::info(format_args!(
+                "program {program}: does not link with the disparity record; the fast modes read its depth"
+            ));
+            return false;
+        }
         link();
-        return;
+        return true;
     }
     if linked {
-        record(gl, group, program, &analysis, (rewritten, pixel_addressing));
+        remember(gl, group, program, &analysis, (rewritten, pixel_addressing, recorded.is_some()));
     }
+    true
+}
+
+/// The fragment shader `fs` (its current source, which may carry the `gl_FragCoord` edit)
+/// with the disparity record; `Some(app's outputs)` when it now writes it.
+fn record_fragment(gl: &Gl, group: &ShareGroup, fs: u32, program: u32) -> Option<Vec<String>> {
+    let current = source_of(gl, fs);
+    let edit = match shader::record::rewrite_fragment(&current) {
+        Ok(e) => e,
+        Err(why) => {
+            crate::log::debug(format_args!("program {program}: fragment shader {fs} records no disparity: {why}"));
+            return None;
+        }
+    };
+    if !compile(gl, fs, &edit.source) {
+        crate::log::debug(format_args!(
+            "program {program}: fragment shader {fs} with the disparity record does not compile"
+        ));
+        compile(gl, fs, &current);
+        return None;
+    }
+    if edit.bind_output {
+        let name = CString::new(shader::record::RECORD_OUTPUT).unwrap_or_default();
+        // SAFETY: a name binding on the app's program, effective at the link that follows.
+        unsafe { gl.BindFragDataLocation(program, shader::record::RECORD_BUFFER, name.as_ptr()) };
+    }
+    group.lock().original_sources.entry(fs).or_insert(current);
+    Some(edit.app_outputs)
+}
+
+/// None of the app's own outputs was placed on the record's draw buffer by the linker.
+fn outputs_clear_of_record(gl: &Gl, program: u32, outputs: &[String]) -> bool {
+    outputs.iter().all(|o| {
+        let Ok(name) = CString::new(o.as_str()) else { return true };
+        // SAFETY: a location query on a linked program.
+        let at = unsafe { gl.GetFragDataLocation(program, name.as_ptr()) };
+        at != shader::record::RECORD_BUFFER as i32
+    })
 }
 
 /// The app's own source of `shader` (before any edit of ours).
@@ -148,8 +223,9 @@ fn try_rewrite(
     original: &str,
     analysis: &shader::Analysis,
     program: u32,
+    record: bool,
 ) -> bool {
-    let new = match shader::rewrite(original, analysis) {
+    let new = match shader::rewrite_recording(original, analysis, record) {
         Ok(s) => s,
         Err(why) => {
             crate::log::info(format_args!(
@@ -175,12 +251,12 @@ fn try_rewrite(
     true
 }
 
-fn record(
+fn remember(
     gl: &Gl,
     group: &ShareGroup,
     program: u32,
     analysis: &shader::Analysis,
-    (rewritten, pixel_addressing): (bool, Option<&'static str>),
+    (rewritten, pixel_addressing, records): (bool, Option<&'static str>, bool),
 ) {
     let (view_loc, remap_loc) = if rewritten {
         (
@@ -238,6 +314,7 @@ fn record(
         identity: analysis.position_kind == shader::PositionKind::Identity,
         fragcoord_loc,
         pixel_addressing,
+        records,
         ..Default::default()
     };
     if view_loc >= 0 || fragcoord_loc >= 0 {

@@ -16,6 +16,7 @@ pub mod framebuffer;
 pub mod immediate;
 pub mod link;
 pub mod raster;
+pub mod record;
 pub mod screen_space;
 pub mod shift;
 pub mod transfers;

@@ -1,0 +1,302 @@
+//! The disparity record's storage and draw state (DESIGN §5, "One disparity per pixel"; the
+//! shader side is `shader::record`).
+//!
+//! The scene target's rendered views get a companion colour attachment at draw buffer
+//! `RECORD_BUFFER`: a `RG32F` texture the size of the quilt when the camera draws to
+//! framebuffer 0, or an array with a layer per view beside a shadowed framebuffer's layers.
+//! Programs with the record write `(p, 1)` there; every other draw into the target (fixed
+//! function, programs the layer could not edit) broadcasts its colour to all draw buffers, so
+//! for those the record's blend is set to `ZERO, ZERO`: `(0, 0)`, "not recorded", and the
+//! readers fall back to depth there. Programs that write it blend with `SRC_ALPHA,
+//! ONE_MINUS_SRC_ALPHA` when the app blends, with the coverage step of the shader as alpha,
+//! so "what the viewer sees" decides: the nearest opaque surface through the depth test, a
+//! translucent one where it covers at least half.
+//!
+//! The textures and framebuffers are ours; the draw-buffer list of our quilt and view
+//! framebuffers gains `RECORD_BUFFER` while recording (queried back from GL per draw, since
+//! the app's `glDrawBuffers` and our own passes reset it); buffer 7's blend state is put back
+//! to buffer 0's (the app's) after each draw. The record is cleared to "not recorded" when a
+//! frame ends.
+
+use crate::gl::guard::get_i;
+use crate::gl::*;
+use crate::shader::record::RECORD_BUFFER;
+
+const POINT: GLenum = COLOR_ATTACHMENT0 + RECORD_BUFFER;
+
+/// A record texture: a 2D texture (`layers == 0`) or a 2D array.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RecordImage {
+    pub texture: u32,
+    pub size: (i32, i32),
+    pub layers: i32,
+}
+
+#[derive(Debug, Default)]
+pub struct DisparityRecord {
+    /// Beside the quilt (the camera draws to framebuffer 0).
+    pub quilt: Option<RecordImage>,
+    /// Beside the shadow of the app's framebuffer `.0`.
+    pub shadow: Option<(u32, RecordImage)>,
+    /// A framebuffer of ours per view reading its record (`read_fbo`).
+    read: Vec<(u32, RecordImage, i32)>,
+    /// Buffer 7's blend state was changed for the current draw.
+    blend_changed: bool,
+}
+
+fn image(gl: &Gl, size: (i32, i32), layers: i32) -> RecordImage {
+    let mut t = 0;
+    let target = if layers == 0 { TEXTURE_2D } else { TEXTURE_2D_ARRAY };
+    // SAFETY: a texture of ours, created with DSA (no binding changed).
+    unsafe {
+        gl.CreateTextures(target, 1, &mut t);
+        if layers == 0 {
+            gl.TextureStorage2D(t, 1, RG32F, size.0.max(1), size.1.max(1));
+        } else {
+            gl.TextureStorage3D(t, 1, RG32F, size.0.max(1), size.1.max(1), layers);
+        }
+        gl.TextureParameteri(t, TEXTURE_MIN_FILTER, NEAREST as i32);
+        gl.TextureParameteri(t, TEXTURE_MAG_FILTER, NEAREST as i32);
+        let zero = [0f32; 2];
+        gl.ClearTexImage(t, 0, RG, FLOAT, zero.as_ptr().cast());
+    }
+    RecordImage {
+        texture: t,
+        size,
+        layers,
+    }
+}
+
+impl DisparityRecord {
+    /// Whether this context can record (per-buffer blending, GL 4.0; DSA, 4.5).
+    pub fn supported(gl: &Gl) -> bool {
+        gl.BlendFunci.is_loaded() && gl.CreateTextures.is_loaded() && gl.ClearTexImage.is_loaded()
+    }
+
+    /// The quilt's record, made (or remade) for a quilt of `size`.
+    pub fn quilt_image(&mut self, gl: &Gl, size: (i32, i32)) -> RecordImage {
+        match self.quilt {
+            Some(r) if r.size == size => r,
+            old => {
+                if let Some(o) = old {
+                    self.forget(gl, o.texture);
+                }
+                let r = image(gl, size, 0);
+                self.quilt = Some(r);
+                r
+            }
+        }
+    }
+
+    /// The record beside the shadow of the app's `fbo`, `views` layers of `size`.
+    pub fn shadow_image(&mut self, gl: &Gl, fbo: u32, size: (i32, i32), views: i32) -> RecordImage {
+        match self.shadow {
+            Some((f, r)) if f == fbo && r.size == size && r.layers == views => r,
+            old => {
+                if let Some((_, o)) = old {
+                    self.forget(gl, o.texture);
+                }
+                let r = image(gl, size, views);
+                self.shadow = Some((fbo, r));
+                r
+            }
+        }
+    }
+
+    fn forget(&mut self, gl: &Gl, texture: u32) {
+        for (fbo, img, _) in self.read.iter_mut() {
+            if img.texture == texture {
+                // SAFETY: our own framebuffer; its attachment is going away.
+                unsafe { gl.NamedFramebufferTexture(*fbo, COLOR_ATTACHMENT0, 0, 0) };
+                *img = RecordImage::default();
+            }
+        }
+        // SAFETY: our own texture; every framebuffer of ours detached it above or is a view
+        // framebuffer that re-attaches before its next draw.
+        unsafe { gl.DeleteTextures(1, &texture) };
+    }
+
+    /// Attaches `img` (layer `layer` of an array) to the bound draw framebuffer (ours: the
+    /// quilt or a view framebuffer) and puts `RECORD_BUFFER` in its draw-buffer list.
+    pub fn attach_bound(gl: &Gl, img: RecordImage, layer: i32) {
+        let mut name = 0;
+        let mut at_layer = 0;
+        // SAFETY: queries and attachment on our own framebuffer, bound by the caller.
+        unsafe {
+            gl.GetFramebufferAttachmentParameteriv(
+                DRAW_FRAMEBUFFER,
+                POINT,
+                FRAMEBUFFER_ATTACHMENT_OBJECT_NAME,
+                &mut name,
+            );
+            if name as u32 == img.texture && img.layers > 0 {
+                gl.GetFramebufferAttachmentParameteriv(
+                    DRAW_FRAMEBUFFER,
+                    POINT,
+                    FRAMEBUFFER_ATTACHMENT_TEXTURE_LAYER,
+                    &mut at_layer,
+                );
+            }
+            if name as u32 != img.texture || at_layer != layer {
+                if img.layers == 0 {
+                    gl.FramebufferTexture2D(DRAW_FRAMEBUFFER, POINT, TEXTURE_2D, img.texture, 0);
+                } else {
+                    gl.FramebufferTextureLayer(DRAW_FRAMEBUFFER, POINT, img.texture, 0, layer);
+                }
+            }
+            if get_i(gl, DRAW_BUFFER0 + RECORD_BUFFER) as GLenum != POINT {
+                let mut bufs = [NONE; RECORD_BUFFER as usize + 1];
+                for (i, b) in bufs.iter_mut().enumerate().take(RECORD_BUFFER as usize) {
+                    *b = get_i(gl, DRAW_BUFFER0 + i as u32) as GLenum;
+                }
+                bufs[RECORD_BUFFER as usize] = POINT;
+                gl.DrawBuffers(bufs.len() as i32, bufs.as_ptr());
+            }
+        }
+    }
+
+    /// Takes `RECORD_BUFFER` out of the bound draw framebuffer's list (the quilt, when the
+    /// camera no longer draws to framebuffer 0).
+    pub fn detach_bound(gl: &Gl) {
+        // SAFETY: our own framebuffer, bound by the caller; only the record's slot changes.
+        unsafe {
+            if get_i(gl, DRAW_BUFFER0 + RECORD_BUFFER) as GLenum == POINT {
+                let mut bufs = [NONE; RECORD_BUFFER as usize + 1];
+                for (i, b) in bufs.iter_mut().enumerate().take(RECORD_BUFFER as usize) {
+                    *b = get_i(gl, DRAW_BUFFER0 + i as u32) as GLenum;
+                }
+                gl.DrawBuffers(bufs.len() as i32, bufs.as_ptr());
+            }
+            gl.FramebufferTexture2D(DRAW_FRAMEBUFFER, POINT, TEXTURE_2D, 0, 0);
+        }
+    }
+
+    /// Before a draw into a recording target: the record's blend for what this draw writes
+    /// there (`records`: its fragment shader writes the record; `blending`: the app blends).
+    pub fn before_draw(&mut self, gl: &Gl, records: bool, blending: bool) {
+        // SAFETY: per-buffer blend state of the record's draw buffer, put back by `after_draw`.
+        unsafe {
+            if records && !blending {
+                return;
+            }
+            gl.Enablei(BLEND, RECORD_BUFFER);
+            gl.BlendEquationi(RECORD_BUFFER, FUNC_ADD);
+            if records {
+                gl.BlendFunci(RECORD_BUFFER, SRC_ALPHA, ONE_MINUS_SRC_ALPHA);
+            } else {
+                gl.BlendFunci(RECORD_BUFFER, ZERO, ZERO);
+            }
+        }
+        self.blend_changed = true;
+    }
+
+    /// Buffer 7's blend state back to buffer 0's (what the app set for all buffers).
+    pub fn after_draw(&mut self, gl: &Gl) {
+        if !std::mem::take(&mut self.blend_changed) {
+            return;
+        }
+        let at0 = |p| {
+            let mut v = 0;
+            // SAFETY: an indexed integer query into a local.
+            unsafe { gl.GetIntegeri_v(p, 0, &mut v) };
+            v as GLenum
+        };
+        let (sr, dr, sa, da) = (at0(BLEND_SRC_RGB), at0(BLEND_DST_RGB), at0(BLEND_SRC_ALPHA), at0(BLEND_DST_ALPHA));
+        let (er, ea) = (at0(BLEND_EQUATION_RGB), at0(BLEND_EQUATION_ALPHA));
+        // SAFETY: buffer 7's blend state set to buffer 0's.
+        unsafe {
+            gl.BlendFuncSeparatei(RECORD_BUFFER, sr, dr, sa, da);
+            gl.BlendEquationSeparatei(RECORD_BUFFER, er, ea);
+            if gl.IsEnabledi(BLEND, 0) == 0 {
+                gl.Disablei(BLEND, RECORD_BUFFER);
+            }
+        }
+    }
+
+    /// A framebuffer of ours whose colour attachment 0 (its read buffer) is `img`'s layer
+    /// `layer`, one per view `slot`, for the readers' blits; `flipped`: stored top-down as
+    /// the quilt is (`GL_MESA_framebuffer_flip_y`), so the quilt's rectangles address it.
+    pub fn read_fbo(&mut self, gl: &Gl, slot: usize, img: RecordImage, layer: i32, flipped: bool) -> u32 {
+        while self.read.len() <= slot {
+            let mut f = 0;
+            // SAFETY: a framebuffer of ours, created with DSA.
+            unsafe {
+                gl.CreateFramebuffers(1, &mut f);
+                gl.NamedFramebufferReadBuffer(f, COLOR_ATTACHMENT0);
+            }
+            self.read.push((f, RecordImage::default(), -1));
+        }
+        let (fbo, held, held_layer) = &mut self.read[slot];
+        let layer_flip = layer | (flipped as i32) << 30;
+        if *held != img || *held_layer != layer_flip {
+            // SAFETY: our framebuffer and texture.
+            unsafe {
+                if img.layers == 0 {
+                    gl.NamedFramebufferTexture(*fbo, COLOR_ATTACHMENT0, img.texture, 0);
+                } else {
+                    gl.NamedFramebufferTextureLayer(*fbo, COLOR_ATTACHMENT0, img.texture, 0, layer);
+                }
+            }
+            if gl.NamedFramebufferParameteri.is_loaded() {
+                // SAFETY: a parameter of our own framebuffer (the extension is the quilt's).
+                unsafe {
+                    gl.NamedFramebufferParameteri(
+                        *fbo,
+                        super::window_format::FRAMEBUFFER_FLIP_Y_MESA,
+                        flipped as i32,
+                    )
+                };
+            }
+            (*held, *held_layer) = (img, layer_flip);
+        }
+        *fbo
+    }
+
+    /// The app's framebuffer `fbo` (0: the quilt) has our record attached to what it draws
+    /// into.
+    pub fn holds(&self, fbo: u32) -> bool {
+        if fbo == 0 {
+            self.quilt.is_some()
+        } else {
+            self.shadow.is_some_and(|(f, _)| f == fbo)
+        }
+    }
+
+    /// Every record back to "not recorded", for the next frame.
+    pub fn clear(&self, gl: &Gl) {
+        let zero = [0f32; 2];
+        for img in self.quilt.iter().chain(self.shadow.iter().map(|(_, r)| r)) {
+            // SAFETY: our own texture.
+            unsafe { gl.ClearTexImage(img.texture, 0, RG, FLOAT, zero.as_ptr().cast()) };
+        }
+    }
+
+    pub fn textures(&self) -> Vec<u32> {
+        self.quilt
+            .iter()
+            .chain(self.shadow.iter().map(|(_, r)| r))
+            .map(|r| r.texture)
+            .collect()
+    }
+}
+
+/// The read framebuffer and rectangle of rendered view `r`'s record, when the scene target
+/// records (`depth_fbo`: where its depth is read from, the quilt or a view framebuffer).
+pub fn source(gl: &Gl, mv: &mut crate::multiview::Multiview, r: u32, quilt_rect: [i32; 4]) -> Option<(u32, [i32; 4])> {
+    if !(mv.settings.disparity_record && mv.record_supported) {
+        return None;
+    }
+    match mv.scene.tracker.target? {
+        0 => {
+            let img = mv.record.quilt?;
+            let flipped = mv.layout().is_some_and(|l| l.flipped);
+            Some((mv.record.read_fbo(gl, r as usize, img, 0, flipped), quilt_rect))
+        }
+        fbo => {
+            let (f, img) = mv.record.shadow?;
+            let s = mv.shadows.get(&fbo).filter(|s| !s.stale && f == fbo)?;
+            (s.size == img.size).then_some(())?;
+            Some((mv.record.read_fbo(gl, r as usize, img, r as i32, false), [0, 0, img.size.0, img.size.1]))
+        }
+    }
+}

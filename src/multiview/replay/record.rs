@@ -1,0 +1,74 @@
+//! The disparity record per draw (DESIGN §5): which draws into the scene target record, into
+//! what, with which blend. Storage and draw state are `quilt::record`; the shader side is
+//! `shader::record`.
+
+use crate::gl::*;
+use crate::multiview::Multiview;
+use crate::multiview::quilt::record::{DisparityRecord, RecordImage};
+use crate::shader::record::RECORD_BUFFER;
+use crate::state::AppState;
+
+/// This draw goes into the scene target of a frame the fast modes warp, with recording on.
+pub fn wanted(app: &AppState, mv: &Multiview) -> bool {
+    mv.settings.disparity_record
+        && mv.plan.synthesise
+        && !mv.plan.warped
+        && mv.record_supported
+        && mv.scene.tracker.target == Some(app.draw_fbo)
+}
+
+/// Its fragment shader writes the record (else the draw leaves "not recorded" there).
+fn program_records(app: &AppState) -> bool {
+    app.program != 0
+        && app.current.program == app.program
+        && app.current.info.as_deref().is_some_and(|p| p.records)
+}
+
+/// A draw into the quilt (framebuffer 0, bound): the quilt's record attached and the draw's
+/// blend set; true when it records (`DisparityRecord::after_draw` then follows the draw).
+pub fn quilt(gl: &Gl, app: &AppState, mv: &mut Multiview, blending: bool) -> bool {
+    if !wanted(app, mv) {
+        return false;
+    }
+    let Some(size) = mv
+        .target
+        .as_ref()
+        .filter(|t| t.samples == 0)
+        .map(|t| (t.layout.width() as i32, t.layout.height() as i32))
+    else {
+        return false;
+    };
+    let img = mv.record.quilt_image(gl, size);
+    DisparityRecord::attach_bound(gl, img, 0);
+    mv.record.before_draw(gl, program_records(app), blending);
+    true
+}
+
+/// A draw into the shadow of the app's framebuffer: the record beside its layers (attached per
+/// view framebuffer by the caller) with the draw's blend set, when it records.
+pub fn shadow(gl: &Gl, app: &AppState, mv: &mut Multiview, blending: bool) -> Option<RecordImage> {
+    if !wanted(app, mv) {
+        return None;
+    }
+    let fbo = app.draw_fbo;
+    let s = mv.shadows.get(&fbo).filter(|s| !s.stale)?;
+    let (size, views) = (s.size, s.views.len() as i32);
+    let held = mv.record.shadow.is_some_and(|(f, r)| f == fbo && r.size == size && r.layers == views);
+    // A multisampled shadow cannot take a single-sampled record, and an app's own eighth
+    // colour buffer keeps its place.
+    let fits = held
+        || s.attached.iter().all(|a| {
+            a.point != COLOR_ATTACHMENT0 + RECORD_BUFFER && {
+                let mut target = 0;
+                // SAFETY: a parameter query on our own array.
+                unsafe { gl.GetTextureParameteriv(a.array, TEXTURE_TARGET, &mut target) };
+                target as GLenum != TEXTURE_2D_MULTISAMPLE_ARRAY
+            }
+        });
+    if !fits {
+        return None;
+    }
+    let img = mv.record.shadow_image(gl, fbo, size, views);
+    mv.record.before_draw(gl, program_records(app), blending);
+    Some(img)
+}
