@@ -17,6 +17,7 @@ use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
 mod sky_box;
+mod weapon;
 mod window_like;
 
 /// `real_programs/steady_clock.c`, built once per test run with `cc` (the linker Rust uses).
