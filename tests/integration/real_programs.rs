@@ -16,6 +16,7 @@ use crate::util::*;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
+mod jellyfish;
 mod sky_box;
 mod weapon;
 mod window_like;
