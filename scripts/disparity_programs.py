@@ -49,6 +49,16 @@ _trace("glmark2-ideas", ["glmark2", "-s", "{W}x{H}", "-b", "ideas:duration=1.5"]
 _trace("glxgears", ["glxgears", "-geometry", "{W}x{H}"], 30, 3)
 _trace("es2gears", ["es2gears_x11"], 30, 3, api="egl", note="its own 300x300 window")
 _trace("chromium-bsu", ["/usr/games/chromium-bsu", "-w", "-v", "0", "-na"], 60, 6, note="512x384 window; its menu (nothing plays the game in the recording)")
+# OpenArena (ioquake3's opengl2 renderer): the first-person weapon is drawn inside
+# glDepthRange(0, 0.3), id Tech 3's depth hack (tests/integration/real_programs/weapon.rs).
+# Its own settings in a fresh HOME (~/.openarena), no sound, no 2D HUD; the game quits itself
+# 80 frames after loading oa_dm1 (66 frames in all, the map on screen from frame 31).
+_OA = {"cl_renderer": "opengl2", "r_mode": "-1", "r_customwidth": "{W}", "r_customheight": "{H}",
+       "r_fullscreen": "0", "s_initsound": "0", "com_introplayed": "1", "sv_pure": "0", "cg_draw2D": "0",
+       "con_notifytime": "0"}
+_trace("openarena", ["sh", "-c", 'HOME=$(mktemp -d) exec /usr/games/openarena "$@"', "openarena",
+                     *[x for k, v in _OA.items() for x in ("+set", k, v)], "+devmap", "oa_dm1", "+wait", "80", "+quit"],
+       56, 60, note="the weapon is drawn inside glDepthRange(0, 0.3); HUD off")
 for _h, _f in [("engine", 20), ("moebiusgears", 30), ("topblock", 10), ("pipes", 60)]:
     # xscreensaver 6 draws through EGL (desktop GL API).
     _trace(f"xss-{_h}", [f"{XS}/{_h}", "-geometry", "{W}x{H}"], _f, 4, api="egl")

@@ -16,7 +16,9 @@ use crate::util::*;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
+mod jellyfish;
 mod sky_box;
+mod weapon;
 mod window_like;
 
 /// `real_programs/steady_clock.c`, built once per test run with `cc` (the linker Rust uses).

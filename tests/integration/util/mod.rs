@@ -6,11 +6,13 @@ mod compare;
 mod gl_errors;
 mod image;
 mod parallax;
+mod region;
 mod xserver;
 pub use compare::*;
 pub use gl_errors::*;
 pub use image::*;
 pub use parallax::*;
+pub use region::*;
 pub use xserver::*;
 
 use std::collections::BTreeSet;
