@@ -16,6 +16,7 @@ use crate::util::*;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
+mod minetest;
 mod sky_box;
 mod window_like;
 
