@@ -2,10 +2,10 @@
 # Installs what building, the demo and the tests need on Debian 12 (bookworm): Mesa (GLX, EGL,
 # OSMesa; llvmpipe renders without a GPU), Xvfb, the real GL programs the tests run
 # (mesa-utils, glmark2, chromium-bsu, extremetuxracer: a sky box around the eye, openarena: a
-# first-person weapon in id Tech 3's depth-range hack, f3d: a VTK viewer, xscreensaver's GL
-# hacks), apitrace (deterministic replays), hyperfine (benchmarks), ffmpeg (--record,
-# holoinject quilt of a video) and xdotool (the live-control hotkey test, driving Extreme Tux
-# Racer's menus).
+# first-person weapon in id Tech 3's depth-range hack, minetest: a voxel game through Irrlicht,
+# shaders on and off, f3d: a VTK viewer, xscreensaver's GL hacks), apitrace (deterministic
+# replays), hyperfine (benchmarks), ffmpeg (--record, holoinject quilt of a video) and xdotool
+# (the live-control hotkey test, driving Extreme Tux Racer's menus).
 set -euo pipefail
 
 packages=(
@@ -14,7 +14,7 @@ packages=(
   mesa-utils mesa-utils-bin glmark2-x11 glmark2-es2-x11
   apitrace apitrace-tracers chromium-bsu extremetuxracer openarena f3d xscreensaver-gl
   glslang-tools hyperfine python3-numpy python3-matplotlib python3-pil
-  ffmpeg
+  ffmpeg minetest
   xdotool
 )
 

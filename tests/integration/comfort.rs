@@ -240,3 +240,170 @@ fn comfort_effects_are_the_same_under_reversed_z() {
         "reversed-Z blurred the foreground: {s} against {sharp} unblurred"
     );
 }
+
+/// The multi-pass sample apps' scene (tests/apps `multipass.rs`: a floor, a ring of cubes
+/// around a floating one, a row of pillars 15.5 units from the eye), at its default
+/// convergence (the scene centre, 10.73), with the outermost view moving 48 px at infinity:
+/// the pillars lie ~15 px behind the screen in the outermost view, the front cubes within a
+/// pixel or two of it.
+const MULTIPASS_RIG: [&str; 10] = [
+    "--quilt",
+    "3x1",
+    "--tile",
+    "320x240",
+    "--output",
+    "quilt",
+    "--convergence",
+    "10.73",
+    "--depthiness",
+    "0.3",
+];
+/// The comfortable range of the depth-of-field runs: ±2 px kept, compressed towards 6 px;
+/// the blur starts at 2 px behind and reaches its full radius, 6 px, at 6 px.
+const DOF_RANGE: [&str; 2] = ["--depth-remap", "2,2,6,6"];
+/// Background: blocks whose outermost-view shift without the remap is at least this far
+/// behind the screen (px). 8 px is remapped to 4.4 px, a blur radius of 3.6 px.
+const FAR_PX: f64 = 8.0;
+/// Foreground: blocks within this of the screen, or in front of it (px): inside the range.
+const NEAR_PX: f64 = 1.0;
+/// A background block must lose at least this share of its detail (mean gradient magnitude;
+/// the median over the far blocks). Not more: a far object's silhouette against the clear
+/// colour stays crisp (nothing is blurred where nothing was drawn, and the clear contributes
+/// no taps), so blocks on a pillar's top against the sky keep most of their gradient. On the
+/// control (`shadowmap`, the same scene drawn into the window) the median far block keeps
+/// 77 %, and all far blocks together 80 %.
+const FAR_MAX_KEPT: f64 = 0.85;
+/// A foreground block keeps at least this share (the median over the near blocks: a near
+/// block on a cube's edge can hold background pixels, which are blurred; the median block is
+/// untouched, 100 % on the control).
+const NEAR_MIN_KEPT: f64 = 0.98;
+
+/// A 3x1 quilt of multi-pass sample app `program` (OSMesa, frame 3) under the rig and `comfort`.
+fn multipass(program: &str, name: &str, comfort: &[&str]) -> (Image, std::path::PathBuf) {
+    let mut layer: Vec<&str> = MULTIPASS_RIG.to_vec();
+    layer.extend_from_slice(comfort);
+    let args = ["--backend", "osmesa", "--size", "320x240", "--frames", "3"];
+    dumped(&format!("dof-{program}-{name}"), &layer, program, &args, "3")
+}
+
+/// Mean |∂x| + |∂y| (levels per pixel and channel) over 16x16 `blocks` (top-left corners) of
+/// a tile: what a blur lowers.
+fn gradient(t: &Image, blocks: &[(u32, u32)]) -> f64 {
+    let level = |x: u32, y: u32, c: u32| f64::from(t.rgb[((y * t.width + x) * 3 + c) as usize]);
+    let (mut sum, mut n) = (0.0, 0.0);
+    for &(x0, y0) in blocks {
+        for y in y0..(y0 + SHIFT_BLOCK).min(t.height - 1) {
+            for x in x0..(x0 + SHIFT_BLOCK).min(t.width - 1) {
+                for c in 0..3 {
+                    let v = level(x, y, c);
+                    sum += (level(x + 1, y, c) - v).abs() + (level(x, y + 1, c) - v).abs();
+                    n += 1.0;
+                }
+            }
+        }
+    }
+    sum / n
+}
+
+/// The depth of field on `program`'s scene: the regions come from the scene itself, as exact
+/// renders it without the remap: the outermost view's shift of each textured 16x16 block of
+/// the centre view (`block_shifts`, positive = behind the screen in the rightmost view). Far
+/// blocks (≥ `FAR_PX` behind) must lose detail under `--dof on` against the same remap
+/// without it, near blocks (≤ `NEAR_PX`) must not. Blocks are measured in the centre view
+/// (the blur reads the outermost view's disparity in every view, and the centre view is the
+/// same image with and without the remap). Detail is the mean |∂x| + |∂y| of a block; the
+/// share a block keeps is its detail with `--dof on` over its detail without; the median over
+/// far blocks must be at most `FAR_MAX_KEPT`, over near blocks at least `NEAR_MIN_KEPT`.
+/// Returns (far kept, near kept, far blocks, near blocks) after printing them.
+fn dof_on(program: &str, how: &str) -> (f64, f64, usize, usize) {
+    let (depth, _) = multipass(program, "depth", &[]);
+    let (sharp, _) = multipass(program, "sharp", &DOF_RANGE);
+    let (blurred, at) = multipass(program, "dof", &[&DOF_RANGE[..], &["--dof", "on"]].concat());
+    let view = |q: &Image, i| tile(q, 3, 1, i);
+    let shifts = block_shifts(&view(&depth, 1), &view(&depth, 2), 40);
+    let origins = block_origins(&view(&depth, 1), 40);
+    let pick = |keep: &dyn Fn(f64) -> bool| -> Vec<(u32, u32)> {
+        origins
+            .iter()
+            .zip(&shifts.shifts)
+            .filter(|(_, s)| s.is_some_and(keep))
+            .map(|(o, _)| *o)
+            .collect()
+    };
+    let far = pick(&|s| s >= FAR_PX);
+    let near = pick(&|s| s <= NEAR_PX);
+    let (c_sharp, c_blurred) = (view(&sharp, 1), view(&blurred, 1));
+    let kept = |blocks: &[(u32, u32)]| gradient(&c_blurred, blocks) / gradient(&c_sharp, blocks);
+    // Per block: the share of its mean gradient the blur keeps; the median over each region.
+    let per_block = |blocks: &[(u32, u32)]| {
+        let mut r: Vec<f64> = blocks.iter().map(|b| kept(std::slice::from_ref(b))).collect();
+        r.sort_by(f64::total_cmp);
+        r
+    };
+    let (far_r, near_r) = (per_block(&far), per_block(&near));
+    let (far_kept, near_kept) = (quantile(&far_r, 0.5), quantile(&near_r, 0.5));
+    let changed = pixels_off(&sharp, &blurred, 0) as f64 / f64::from(sharp.width * sharp.height);
+    eprintln!(
+        "{program} ({how}): {} blocks matched, {} far (≥ {FAR_PX} px behind), {} near (≤ {NEAR_PX} px); \
+         --dof on keeps a median {:.1} % of a far block's mean gradient (all far blocks: {:.2} -> {:.2} levels) \
+         and {:.1} % of a near block's ({:.2} -> {:.2}); {:.2} % of the quilt's pixels changed; per block, far \
+         {far_r:.2?}, near {near_r:.2?}",
+        shifts.count(),
+        far.len(),
+        near.len(),
+        100.0 * far_kept,
+        gradient(&c_sharp, &far),
+        gradient(&c_blurred, &far),
+        100.0 * near_kept,
+        gradient(&c_sharp, &near),
+        gradient(&c_blurred, &near),
+        100.0 * changed,
+    );
+    assert!(
+        far.len() >= 8 && near.len() >= 8,
+        "{program}: {} far and {} near blocks: the scene lacks the depth the test needs ({})",
+        far.len(),
+        near.len(),
+        at.display()
+    );
+    assert!(
+        far_kept <= FAR_MAX_KEPT,
+        "{program} ({how}), --depth-remap 2,2,6,6 --dof on: the background beyond the comfortable range \
+         keeps {:.1} % of its detail (median far block) (at most {:.0} % may stay; {:.2} % of the quilt's pixels changed at \
+         all): a viewer sees the far pillars as sharp, and as doubled by the display, as without depth \
+         of field ({})",
+        100.0 * far_kept,
+        100.0 * FAR_MAX_KEPT,
+        100.0 * changed,
+        at.display()
+    );
+    assert!(
+        near_kept >= NEAR_MIN_KEPT,
+        "{program} ({how}), --dof on: the foreground within the comfortable range keeps only {:.1} % of \
+         its detail (median near block) (at least {:.0} % must): a viewer sees the cubes at the screen plane blurred, which \
+         the display shows sharp ({})",
+        100.0 * near_kept,
+        100.0 * NEAR_MIN_KEPT,
+        at.display()
+    );
+    (far_kept, near_kept, far.len(), near.len())
+}
+
+/// A composited renderer: `framebuffers` draws its scene into its own framebuffer (colour
+/// texture, depth renderbuffer) and copies it to the window with a full-screen sharpen pass,
+/// so framebuffer 0 holds only the quad's depth. The blur must still find the background.
+#[test]
+fn depth_of_field_blurs_the_background_of_a_composited_scene() {
+    dof_on(
+        "framebuffers",
+        "scene in its own framebuffer, composited by a full-screen pass",
+    );
+}
+
+/// The control: the same scene drawn straight into framebuffer 0 (`shadowmap`: the shadow
+/// map is a depth-only pass of its own, the lit scene goes to the window), where the blur reads
+/// the scene's depth directly. It shows the measure works where the depth of field does.
+#[test]
+fn depth_of_field_blurs_the_background_of_a_directly_drawn_scene() {
+    dof_on("shadowmap", "scene drawn into the window");
+}

@@ -17,6 +17,7 @@ use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
 mod jellyfish;
+mod minetest;
 mod sky_box;
 mod weapon;
 mod window_like;

@@ -3,12 +3,14 @@
 //! they said (`gl_errors`: GL errors reported), and comparing images (`image`, `compare`).
 
 mod compare;
+mod disparity;
 mod gl_errors;
 mod image;
 mod parallax;
 mod region;
 mod xserver;
 pub use compare::*;
+pub use disparity::*;
 pub use gl_errors::*;
 pub use image::*;
 pub use parallax::*;

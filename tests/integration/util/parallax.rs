@@ -105,20 +105,35 @@ fn block_shift(a: &Image, b: &Image, x0: u32, y0: u32, max: i32) -> Option<f64> 
 /// Per-block horizontal shifts of `view` against `centre` (tiles of equal size), searched in
 /// ±`max` px: positive when the view's content lies to the right.
 pub fn block_shifts(centre: &Image, view: &Image, max: i32) -> BlockShifts {
-    let m = max as u32;
-    let mut shifts = Vec::new();
-    let mut y0 = 0;
-    while y0 + BLOCK <= centre.height {
-        let mut x0 = m;
-        while x0 + BLOCK + m <= centre.width {
+    let shifts = block_origins(centre, max)
+        .into_iter()
+        .map(|(x0, y0)| {
             let textured = texture(centre, x0, y0) >= MIN_TEXTURE;
-            shifts.push(textured.then(|| block_shift(centre, view, x0, y0, max)).flatten());
+            textured.then(|| block_shift(centre, view, x0, y0, max)).flatten()
+        })
+        .collect();
+    BlockShifts { shifts }
+}
+
+/// The top-left corners of the blocks `block_shifts` measures in a tile, in its order (rows
+/// from the top; the search range `max` left out at both sides), and the block edge.
+pub fn block_origins(tile: &Image, max: i32) -> Vec<(u32, u32)> {
+    let m = max as u32;
+    let mut origins = Vec::new();
+    let mut y0 = 0;
+    while y0 + BLOCK <= tile.height {
+        let mut x0 = m;
+        while x0 + BLOCK + m <= tile.width {
+            origins.push((x0, y0));
             x0 += BLOCK;
         }
         y0 += BLOCK;
     }
-    BlockShifts { shifts }
+    origins
 }
+
+/// The edge (px) of the blocks of `block_shifts`.
+pub const SHIFT_BLOCK: u32 = BLOCK;
 
 /// Median over the blocks found in both of |left + right|: zero when view i and view N-1-i
 /// move every block by opposite amounts.
@@ -155,6 +170,17 @@ pub type ParallaxReport = Vec<(f64, f64, usize)>;
 /// N-1-i. Prints every view's median and spread; on failure the outer views' images go
 /// beside `at` as `…-view{i}`.
 pub fn assert_depth_parallax(quilt: &Image, at: &Path, cols: u32, max: i32, what: &str) -> ParallaxReport {
+    let (report, _, failures) = depth_parallax(quilt, cols, max, what);
+    if !failures.is_empty() {
+        let images = write_outer_views(quilt, at, cols);
+        panic!("{what}: {}\n{report:.2?}\n{images}", failures.join("; "));
+    }
+    report
+}
+
+/// What `assert_depth_parallax` measures, without failing: the per-view report (printed), the
+/// mirror errors per pair from the outside in, and what is wrong (empty when nothing is).
+pub fn depth_parallax(quilt: &Image, cols: u32, max: i32, what: &str) -> (ParallaxReport, Vec<f64>, Vec<String>) {
     let centre = cols / 2;
     let views = quilt_shifts(quilt, (cols, 1), centre, max);
     let report: ParallaxReport = views.iter().map(|v| (v.median(), v.spread(), v.count())).collect();
@@ -166,11 +192,7 @@ pub fn assert_depth_parallax(quilt: &Image, at: &Path, cols: u32, max: i32, what
         .collect();
     eprintln!("{what}: mirror error (median |left + right|) per pair from the outside in: {mirror:.2?} px");
     let failures = parallax_failures(&report, &mirror);
-    if !failures.is_empty() {
-        let images = write_outer_views(quilt, at, cols);
-        panic!("{what}: {}\n{report:.2?}\n{images}", failures.join("; "));
-    }
-    report
+    (report, mirror, failures)
 }
 
 /// What is wrong with the measured parallax (`mirror`: per pair from the outside in).
