@@ -71,7 +71,10 @@ pub fn rewrite_fragment(source: &str) -> Result<FragmentRecord, String> {
     if version.is_some_and(|v| v.0.1) {
         return Err("GLSL ES".into());
     }
-    if dirs.iter().any(|d| d.name == "define" && d.rest.split_whitespace().next() == Some("main")) {
+    if dirs
+        .iter()
+        .any(|d| d.name == "define" && d.rest.split_whitespace().next() == Some("main"))
+    {
         return Err("the shader #defines main itself".into());
     }
     if !defines_main(&blanked) || main_only_under_conditionals(&blanked, &dirs) {
@@ -89,10 +92,12 @@ pub fn rewrite_fragment(source: &str) -> Result<FragmentRecord, String> {
         if !legacy {
             return Err("writes no colour".into());
         }
-        let rename = if frag_color { "#define gl_FragColor gl_FragData[0]\n" } else { "" };
-        let write = format!(
-            "gl_FragData[{RECORD_BUFFER}] = holoinject_recorded(gl_FragData[0].a);",
-        );
+        let rename = if frag_color {
+            "#define gl_FragColor gl_FragData[0]\n"
+        } else {
+            ""
+        };
+        let write = format!("gl_FragData[{RECORD_BUFFER}] = holoinject_recorded(gl_FragData[0].a);",);
         (format!("{rename}{varying}"), write, vec![])
     } else {
         let outputs = outputs(&toks);
@@ -153,7 +158,10 @@ fn layout_names(toks: &[Token], what: &str) -> bool {
     let mut i = 0;
     while i + 1 < toks.len() {
         if toks[i].is_ident("layout") && toks[i + 1].is_punct("(") {
-            let end = toks[i..].iter().position(|t| t.is_punct(")")).map_or(toks.len(), |e| i + e);
+            let end = toks[i..]
+                .iter()
+                .position(|t| t.is_punct(")"))
+                .map_or(toks.len(), |e| i + e);
             if toks[i..end].iter().any(|t| t.is_ident(what)) {
                 return true;
             }
@@ -167,7 +175,15 @@ fn layout_names(toks: &[Token], what: &str) -> bool {
 /// The `out` declarations at global scope (brace depth 0).
 fn outputs(toks: &[Token]) -> Vec<Output> {
     const QUALIFIERS: [&str; 9] = [
-        "highp", "mediump", "lowp", "flat", "smooth", "noperspective", "centroid", "invariant", "precise",
+        "highp",
+        "mediump",
+        "lowp",
+        "flat",
+        "smooth",
+        "noperspective",
+        "centroid",
+        "invariant",
+        "precise",
     ];
     let mut found = vec![];
     let mut depth = 0i32;
@@ -220,7 +236,10 @@ mod tests {
         let r = rewrite_fragment(src).unwrap();
         assert!(r.source.contains("#define gl_FragColor gl_FragData[0]"));
         assert!(r.source.contains("varying float holoinject_parallax_w;"));
-        assert!(r.source.contains("gl_FragData[7] = holoinject_recorded(gl_FragData[0].a);"));
+        assert!(
+            r.source
+                .contains("gl_FragData[7] = holoinject_recorded(gl_FragData[0].a);")
+        );
         assert!(!r.bind_output);
     }
 

@@ -5,8 +5,8 @@
 //! `EmitVertex()` / `EmitStreamVertex(n)` is routed through a function that shifts first. Every
 //! inserted block ends with a `#line` so the app's own line numbers are unchanged.
 
-use super::text::{self, Directive};
 use super::record::RECORD_VARYING;
+use super::text::{self, Directive};
 use super::{Analysis, Stage, VIEW_SHIFT_GLSL};
 
 pub fn rewrite(source: &str, analysis: &Analysis) -> Result<String, String> {
@@ -158,7 +158,10 @@ fn rewrite_main(
         line_directive(version.map(|v| v.0), next_line + 1)
     );
     let (decl, set) = match record {
-        Some(decl) => (decl, format!("    {RECORD_VARYING} = holoinject_parallax_of(gl_Position);\n")),
+        Some(decl) => (
+            decl,
+            format!("    {RECORD_VARYING} = holoinject_parallax_of(gl_Position);\n"),
+        ),
         None => ("", String::new()),
     };
     let tail = format!(

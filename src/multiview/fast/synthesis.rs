@@ -235,7 +235,11 @@ fn try_warp(gl: &Gl, mv: &mut Multiview, kept: &[u32]) -> Result<(), String> {
 
 /// Where each rendered view's disparity record is read (`replay::record` says when there is
 /// one).
-fn records(gl: &Gl, mv: &mut Multiview, layout: &crate::multiview::quilt::layout::QuiltLayout) -> Vec<Option<(u32, [i32; 4])>> {
+fn records(
+    gl: &Gl,
+    mv: &mut Multiview,
+    layout: &crate::multiview::quilt::layout::QuiltLayout,
+) -> Vec<Option<(u32, [i32; 4])>> {
     let rendered = mv.plan.rendered.clone();
     rendered
         .iter()

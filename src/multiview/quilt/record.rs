@@ -201,7 +201,12 @@ impl DisparityRecord {
             unsafe { gl.GetIntegeri_v(p, 0, &mut v) };
             v as GLenum
         };
-        let (sr, dr, sa, da) = (at0(BLEND_SRC_RGB), at0(BLEND_DST_RGB), at0(BLEND_SRC_ALPHA), at0(BLEND_DST_ALPHA));
+        let (sr, dr, sa, da) = (
+            at0(BLEND_SRC_RGB),
+            at0(BLEND_DST_RGB),
+            at0(BLEND_SRC_ALPHA),
+            at0(BLEND_DST_ALPHA),
+        );
         let (er, ea) = (at0(BLEND_EQUATION_RGB), at0(BLEND_EQUATION_ALPHA));
         // SAFETY: buffer 7's blend state set to buffer 0's.
         unsafe {
@@ -240,11 +245,7 @@ impl DisparityRecord {
             if gl.NamedFramebufferParameteri.is_loaded() {
                 // SAFETY: a parameter of our own framebuffer (the extension is the quilt's).
                 unsafe {
-                    gl.NamedFramebufferParameteri(
-                        *fbo,
-                        super::window_format::FRAMEBUFFER_FLIP_Y_MESA,
-                        flipped as i32,
-                    )
+                    gl.NamedFramebufferParameteri(*fbo, super::window_format::FRAMEBUFFER_FLIP_Y_MESA, flipped as i32)
                 };
             }
             (*held, *held_layer) = (img, layer_flip);
@@ -296,7 +297,10 @@ pub fn source(gl: &Gl, mv: &mut crate::multiview::Multiview, r: u32, quilt_rect:
             let (f, img) = mv.record.shadow?;
             let s = mv.shadows.get(&fbo).filter(|s| !s.stale && f == fbo)?;
             (s.size == img.size).then_some(())?;
-            Some((mv.record.read_fbo(gl, r as usize, img, r as i32, false), [0, 0, img.size.0, img.size.1]))
+            Some((
+                mv.record.read_fbo(gl, r as usize, img, r as i32, false),
+                [0, 0, img.size.0, img.size.1],
+            ))
         }
     }
 }

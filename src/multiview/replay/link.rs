@@ -108,7 +108,10 @@ fn link_with(gl: &Gl, group: &ShareGroup, program: u32, link: &impl Fn(), record
         let mut ok = 0;
         // SAFETY: single-integer program query.
         unsafe { gl.GetProgramiv(program, LINK_STATUS, &mut ok) };
-        ok != 0 && recorded.as_ref().is_none_or(|outputs| outputs_clear_of_record(gl, program, outputs))
+        ok != 0
+            && recorded
+                .as_ref()
+                .is_none_or(|outputs| outputs_clear_of_record(gl, program, outputs))
     };
     if (rewritten || fragment.is_some()) && !linked {
         if !record {
@@ -137,7 +140,13 @@ fn link_with(gl: &Gl, group: &ShareGroup, program: u32, link: &impl Fn(), record
         return true;
     }
     if linked {
-        remember(gl, group, program, &analysis, (rewritten, pixel_addressing, recorded.is_some()));
+        remember(
+            gl,
+            group,
+            program,
+            &analysis,
+            (rewritten, pixel_addressing, recorded.is_some()),
+        );
     }
     true
 }
@@ -149,7 +158,9 @@ fn record_fragment(gl: &Gl, group: &ShareGroup, fs: u32, program: u32) -> Option
     let edit = match shader::record::rewrite_fragment(&current) {
         Ok(e) => e,
         Err(why) => {
-            crate::log::debug(format_args!("program {program}: fragment shader {fs} records no disparity: {why}"));
+            crate::log::debug(format_args!(
+                "program {program}: fragment shader {fs} records no disparity: {why}"
+            ));
             return None;
         }
     };
@@ -172,7 +183,9 @@ fn record_fragment(gl: &Gl, group: &ShareGroup, fs: u32, program: u32) -> Option
 /// None of the app's own outputs was placed on the record's draw buffer by the linker.
 fn outputs_clear_of_record(gl: &Gl, program: u32, outputs: &[String]) -> bool {
     outputs.iter().all(|o| {
-        let Ok(name) = CString::new(o.as_str()) else { return true };
+        let Ok(name) = CString::new(o.as_str()) else {
+            return true;
+        };
         // SAFETY: a location query on a linked program.
         let at = unsafe { gl.GetFragDataLocation(program, name.as_ptr()) };
         at != shader::record::RECORD_BUFFER as i32

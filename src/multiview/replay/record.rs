@@ -19,9 +19,7 @@ pub fn wanted(app: &AppState, mv: &Multiview) -> bool {
 
 /// Its fragment shader writes the record (else the draw leaves "not recorded" there).
 fn program_records(app: &AppState) -> bool {
-    app.program != 0
-        && app.current.program == app.program
-        && app.current.info.as_deref().is_some_and(|p| p.records)
+    app.program != 0 && app.current.program == app.program && app.current.info.as_deref().is_some_and(|p| p.records)
 }
 
 /// A draw into the quilt (framebuffer 0, bound): the quilt's record attached and the draw's
@@ -53,7 +51,10 @@ pub fn shadow(gl: &Gl, app: &AppState, mv: &mut Multiview, blending: bool) -> Op
     let fbo = app.draw_fbo;
     let s = mv.shadows.get(&fbo).filter(|s| !s.stale)?;
     let (size, views) = (s.size, s.views.len() as i32);
-    let held = mv.record.shadow.is_some_and(|(f, r)| f == fbo && r.size == size && r.layers == views);
+    let held = mv
+        .record
+        .shadow
+        .is_some_and(|(f, r)| f == fbo && r.size == size && r.layers == views);
     // A multisampled shadow cannot take a single-sampled record, and an app's own eighth
     // colour buffer keeps its place.
     let fits = held
