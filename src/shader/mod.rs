@@ -66,6 +66,19 @@ pub const VIEW_SHIFT_GLSL: &str = concat!(
     include_str!("../../glsl-patches/view_shift.glsl")
 );
 
+/// The varying from the last pre-rasterisation stage to the fragment shader: the parallax its
+/// shift used times clip w (`record`).
+pub const RECORD_VARYING: &str = "holoinject_parallax_w";
+
+/// The declaration of `RECORD_VARYING` for a stage (`out`: written by it), `None` for GLSL ES.
+pub fn record_varying(version: Option<(u32, bool)>, out: bool) -> Option<String> {
+    match version {
+        Some((_, true)) => None,
+        Some((v, _)) if v >= 130 => Some(format!("{} float {RECORD_VARYING};\n", if out { "out" } else { "in" })),
+        _ => Some(format!("varying float {RECORD_VARYING};\n")),
+    }
+}
+
 /// Values of `holoinject_view.w` (passed as exact small floats).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[repr(u8)]

@@ -24,22 +24,12 @@
 use super::rewrite::{conditionals_balanced, defines_main, line_directive, main_only_under_conditionals};
 use super::text::{self, Token};
 
-/// The varying from the last pre-rasterisation stage: parallax times clip w.
-pub const RECORD_VARYING: &str = "holoinject_parallax_w";
+pub use super::RECORD_VARYING;
 /// The fragment output added to shaders with their own `out` variables.
 pub const RECORD_OUTPUT: &str = "holoinject_record";
 /// The draw buffer (and colour attachment) the record is written to: the last one GL 3.0
 /// guarantees, the one an app is least likely to use.
 pub const RECORD_BUFFER: u32 = 7;
-
-/// The declaration of the varying for a stage (`out`: written by it), `None` for GLSL ES.
-pub fn varying(version: Option<(u32, bool)>, out: bool) -> Option<String> {
-    match version {
-        Some((_, true)) => None,
-        Some((v, _)) if v >= 130 => Some(format!("{} float {RECORD_VARYING};\n", if out { "out" } else { "in" })),
-        _ => Some(format!("varying float {RECORD_VARYING};\n")),
-    }
-}
 
 /// A fragment shader that writes the record.
 #[derive(Debug)]
@@ -87,7 +77,7 @@ pub fn rewrite_fragment(source: &str) -> Result<FragmentRecord, String> {
     let frag_color = text::has_ident(&blanked, "gl_FragColor");
     let legacy = frag_color || text::has_ident(&blanked, "gl_FragData");
     let number = version.map_or(110, |v| v.0.0);
-    let varying = varying(version.map(|v| v.0), false).ok_or("GLSL ES")?;
+    let varying = super::record_varying(version.map(|v| v.0), false).ok_or("GLSL ES")?;
     let (decls, write, outputs) = if legacy || number < 130 {
         if !legacy {
             return Err("writes no colour".into());

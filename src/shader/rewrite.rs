@@ -5,9 +5,8 @@
 //! `EmitVertex()` / `EmitStreamVertex(n)` is routed through a function that shifts first. Every
 //! inserted block ends with a `#line` so the app's own line numbers are unchanged.
 
-use super::record::RECORD_VARYING;
 use super::text::{self, Directive};
-use super::{Analysis, Stage, VIEW_SHIFT_GLSL};
+use super::{Analysis, RECORD_VARYING, Stage, VIEW_SHIFT_GLSL};
 
 pub fn rewrite(source: &str, analysis: &Analysis) -> Result<String, String> {
     rewrite_recording(source, analysis, false)
@@ -23,7 +22,7 @@ pub fn rewrite_recording(source: &str, analysis: &Analysis, record: bool) -> Res
         return Err("unbalanced #if/#else/#endif".into());
     }
     let record = if record {
-        Some(super::record::varying(text::version(&dirs).map(|v| v.0), true).ok_or("no disparity record in GLSL ES")?)
+        Some(super::record_varying(text::version(&dirs).map(|v| v.0), true).ok_or("no disparity record in GLSL ES")?)
     } else {
         None
     };
