@@ -74,7 +74,12 @@ pub fn rewrite_fragment(source: &str) -> Result<FragmentRecord, String> {
     if layout_names(&toks, "index") {
         return Err("dual-source blending (a second draw buffer is not allowed with it)".into());
     }
-    let frag_color = text::has_ident(&blanked, "gl_FragColor");
+    // `#define gl_FragColor out_Color` (ioquake3's GLSL 1.50 header, and others porting 1.10
+    // shaders): the colour is that `out` variable, whatever the code calls it.
+    let aliased = dirs
+        .iter()
+        .any(|d| d.name == "define" && d.rest.split_whitespace().next() == Some("gl_FragColor"));
+    let frag_color = !aliased && text::has_ident(&blanked, "gl_FragColor");
     let legacy = frag_color || text::has_ident(&blanked, "gl_FragData");
     let number = version.map_or(110, |v| v.0.0);
     let varying = super::record_varying(version.map(|v| v.0), false).ok_or("GLSL ES")?;
@@ -242,6 +247,16 @@ mod tests {
         assert!(r.source.contains("holoinject_record = holoinject_recorded(c.a);"));
         assert!(r.bind_output);
         assert_eq!(r.app_outputs, ["n", "c"]);
+    }
+
+    #[test]
+    fn an_aliased_gl_frag_color_is_the_app_s_output() {
+        let src = "#version 150\nout vec4 out_Color;\n#define gl_FragColor out_Color\n\
+                   void main() { gl_FragColor.rgb = vec3(1.0); gl_FragColor.a = 0.5; }\n";
+        let r = rewrite_fragment(src).unwrap();
+        assert!(!r.source.contains("gl_FragData"));
+        assert!(r.source.contains("holoinject_record = holoinject_recorded(out_Color.a);"));
+        assert_eq!(r.app_outputs, ["out_Color"]);
     }
 
     #[test]

@@ -37,6 +37,15 @@ fn source_of(gl: &Gl, shader: u32) -> String {
     String::from_utf8_lossy(&buf).into_owned()
 }
 
+/// The first kilobyte of `shader`'s info log.
+fn shader_log(gl: &Gl, shader: u32) -> String {
+    let mut buf = [0u8; 1024];
+    let mut len = 0;
+    // SAFETY: the log into a local buffer of the stated size.
+    unsafe { gl.GetShaderInfoLog(shader, buf.len() as i32, &mut len, buf.as_mut_ptr().cast()) };
+    String::from_utf8_lossy(&buf[..len.clamp(0, buf.len() as i32) as usize]).into_owned()
+}
+
 fn compile(gl: &Gl, shader: u32, source: &str) -> bool {
     let Ok(c) = CString::new(source) else { return false };
     let ptr = c.as_ptr();
@@ -166,7 +175,8 @@ fn record_fragment(gl: &Gl, group: &ShareGroup, fs: u32, program: u32) -> Option
     };
     if !compile(gl, fs, &edit.source) {
         crate::log::debug(format_args!(
-            "program {program}: fragment shader {fs} with the disparity record does not compile"
+            "program {program}: fragment shader {fs} with the disparity record does not compile: {}",
+            shader_log(gl, fs).lines().next().unwrap_or("")
         ));
         compile(gl, fs, &current);
         return None;

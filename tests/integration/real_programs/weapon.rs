@@ -188,7 +188,6 @@ fn replay(dir: &Path, trace: &Path, mode: &str) -> Image {
 /// in at least 90 % of its blocks), and `--mode hybrid:3`'s warped views show it once, as
 /// exact does (PSNR around it at least 30 dB in each).
 #[test]
-#[ignore = "issue 22: the record does not reach OpenArena's weapon yet: synth moves it 25 px where exact moves it 8 px (0 of 112 blocks within 1 px)"]
 fn openarena_weapon_moves_as_in_exact() {
     require_display();
     assert!(
