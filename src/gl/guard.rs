@@ -139,6 +139,9 @@ impl<'a> StateGuard<'a> {
         if !self.info.es {
             caps.extend([FRAMEBUFFER_SRGB, COLOR_LOGIC_OP, MULTISAMPLE]);
         }
+        if compatibility(gl, self.info) {
+            caps.push(ALPHA_TEST);
+        }
         self.caps(&caps).viewport()
     }
 
@@ -335,8 +338,21 @@ pub fn set_depth_range(gl: &Gl, info: GlInfo, [near, far]: [f64; 2]) {
 
 /// Fixed-function state a full-screen pass of ours must not inherit from the app (the caller
 /// holds a `StateGuard::for_pass` that puts it all back).
+/// A context with the fixed-function per-fragment state (desktop before 3.1, or a 3.2+
+/// compatibility profile): there the alpha test applies to our passes' output too.
+pub fn compatibility(gl: &Gl, info: GlInfo) -> bool {
+    !info.es
+        && (!info.at_least(3, 1)
+            || info.at_least(3, 2) && get_i(gl, CONTEXT_PROFILE_MASK) as u32 & CONTEXT_COMPATIBILITY_PROFILE_BIT != 0)
+}
+
 pub fn neutral_pass_state(gl: &Gl, info: GlInfo) {
     let mut off = vec![BLEND, DEPTH_TEST, STENCIL_TEST, CULL_FACE, SCISSOR_TEST, DITHER];
+    // A fixed-function game's alpha test (foliage: GL_GREATER 0.5) left on at the swap would
+    // discard every fragment of a pass whose output has no alpha of 1 (found on Minetest).
+    if compatibility(gl, info) {
+        off.push(ALPHA_TEST);
+    }
     if info.es || info.at_least(3, 0) {
         off.push(RASTERIZER_DISCARD);
     }

@@ -130,7 +130,7 @@ pub fn rewrite_fragment(source: &str) -> Result<FragmentRecord, String> {
     );
     let tail = format!(
         "#undef main\nvec4 holoinject_recorded(float holoinject_alpha)\n{{\n    \
-         return vec4({RECORD_VARYING} * gl_FragCoord.w, 1.0, 0.0, holoinject_alpha >= 0.5 ? 1.0 : 0.0);\n}}\n\
+         return vec4({RECORD_VARYING} * gl_FragCoord.w, 1.0, 0.0, holoinject_alpha >= 1.0 / 255.0 ? 1.0 : 0.0);\n}}\n\
          void main()\n{{\n    holoinject_app_main();\n    {write}\n}}\n"
     );
     let mut out = String::with_capacity(source.len() + head.len() + tail.len() + 1);
@@ -255,7 +255,10 @@ mod tests {
                    void main() { gl_FragColor.rgb = vec3(1.0); gl_FragColor.a = 0.5; }\n";
         let r = rewrite_fragment(src).unwrap();
         assert!(!r.source.contains("gl_FragData"));
-        assert!(r.source.contains("holoinject_record = holoinject_recorded(out_Color.a);"));
+        assert!(
+            r.source
+                .contains("holoinject_record = holoinject_recorded(out_Color.a);")
+        );
         assert_eq!(r.app_outputs, ["out_Color"]);
     }
 

@@ -73,7 +73,7 @@ fn replay(
         // The views are complete up to here; what follows (a HUD) is drawn in every view.
         crate::multiview::fast::synthesis::warp(gl, mv);
     }
-    if mv.scene.tracker.draw(app.draw_fbo, shift.camera(), app.viewport) {
+    if mv.scene.tracker.draw(app.draw_fbo, shift.scene(), app.viewport) {
         // The scene's depth is about to be drawn over: auto-convergence copies it first.
         crate::multiview::scene::convergence::take_depth(gl, app, mv);
     }

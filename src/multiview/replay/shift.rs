@@ -39,6 +39,16 @@ impl Shift {
             Shift::None => false,
         }
     }
+
+    /// A draw of the scene seen through the camera: view-dependent and not attached to the
+    /// camera (a sky around the eye sets no scene depth: a depth clear after it is not the
+    /// scene's end).
+    pub fn scene(&self) -> bool {
+        match self {
+            Shift::Uniform { infinity, .. } | Shift::Projection { infinity, .. } => self.camera() && !infinity,
+            Shift::None => false,
+        }
+    }
 }
 
 /// The shift of the draw about to be made with the app's current program (or fixed

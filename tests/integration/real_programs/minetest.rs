@@ -294,7 +294,6 @@ fn minetest_synth_matches_exact(test: &str, shaders: bool) {
 
 /// Minetest's own shaders (`enable_shaders = true`): every material a GLSL 1.20 program.
 #[test]
-#[ignore = "issue 22: synth shows no parallax on Minetest (9 % of blocks agree); not explained by the record"]
 fn minetest_shaders_synth_disparity_matches_exact() {
     minetest_synth_matches_exact("minetest_shaders", true);
 }
@@ -302,7 +301,6 @@ fn minetest_shaders_synth_disparity_matches_exact() {
 /// Irrlicht's fixed-function driver (`enable_shaders = false`): matrices through
 /// `GL_PROJECTION`/`GL_MODELVIEW`, fog and lighting by the pipeline.
 #[test]
-#[ignore = "issue 22: synth shows no parallax on Minetest's fixed-function path (9 % of blocks agree); fixed-function draws record nothing"]
 fn minetest_fixed_function_synth_disparity_matches_exact() {
     minetest_synth_matches_exact("minetest_fixed_function", false);
 }
