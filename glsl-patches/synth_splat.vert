@@ -29,11 +29,11 @@ void main()
     float depth = texelFetch(u_depth, ivec3(src, u_layer), 0).r;
     float q = ((2.0 * depth - 1.0) + u_model.x) + u_model.y;
     float p = 1.0 - u_model.z * q;
-    if (u_remap.z > 0.0 && u_px.x != 0.0)
-        p = holoinject_remap(u_px.x * p, u_remap) / u_px.x;
     vec2 rec = u_recorded == 1 ? texelFetch(u_record, ivec3(src, u_layer), 0).rg : vec2(0.0);
     if (rec.g > 0.5)
         p = rec.r;
+    if (u_remap.z > 0.0 && u_px.x != 0.0)
+        p = holoinject_remap(u_px.x * p, u_remap) / u_px.x;
     float x = float(src.x) + 0.5 + u_du * (u_px.x * p + u_px.y);
     vec2 pos = vec2(x, float(src.y) + 0.5) / vec2(u_tile) * 2.0 - 1.0;
     float z = u_zero_to_one == 1 ? depth : 2.0 * depth - 1.0;

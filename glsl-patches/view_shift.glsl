@@ -34,7 +34,7 @@ HOLOINJECT_HIGHP vec4 holoinject_shift(HOLOINJECT_HIGHP vec4 holoinject_p)
     return holoinject_p;
 }
 // The parallax this vertex's shift gives it, times w (the disparity record, DESIGN §5): the
-// shifted x moves by k·(that / w) + h, so every view's disparity is one number per vertex.
+// shifted x moves by k·(R(that / w)) + h, so every view's disparity is one number per vertex.
 // Times w because w·p is affine in clip space, so perspective-correct interpolation gives the
 // fragment its exact value, and p = (w·p)·gl_FragCoord.w there. Computed apart from the shift
 // because the centre view (k = h = 0) returns early but is recorded too.
@@ -47,9 +47,7 @@ HOLOINJECT_HIGHP float holoinject_parallax_of(HOLOINJECT_HIGHP vec4 holoinject_p
     HOLOINJECT_HIGHP float holoinject_tol = holoinject_mode == 0.0 || holoinject_mode == 2.0 ? 1e-6 : 0.0;
     bool holoinject_at_far = abs(holoinject_p.z - holoinject_far_z) <= holoinject_tol * abs(holoinject_p.w);
     HOLOINJECT_HIGHP float holoinject_c = holoinject_at_far ? 0.0 : holoinject_view.y;
-    if (holoinject_comfort.z > 0.0) {
-        HOLOINJECT_HIGHP float holoinject_par = holoinject_c == 0.0 ? 1.0 : 1.0 - holoinject_c / holoinject_p.w;
-        return holoinject_p.w * holoinject_remap(holoinject_par, holoinject_comfort);
-    }
+    // Before the comfort remap: its readers remap (the warps) or measure against the
+    // comfortable range (the depth of field) themselves, as they do a depth's parallax.
     return holoinject_p.w - holoinject_c;
 }

@@ -118,6 +118,8 @@ fn multiview_frame(
             }
         }
         crate::multiview::update_convergence(gl, app, mv);
+        // After the comfort pass (in `present_frame`), the last reader of this frame's record.
+        mv.record.clear(gl);
         crate::multiview::replay::framebuffer::ensure_target(gl, app, mv, window);
         observe(&mv.camera.rig, mv.settings.output);
         super::census::log_if_due(frame, layer);

@@ -104,6 +104,7 @@ pub fn apply(
         .framebuffers()
         .for_pass()
         .textures(TEXTURE_2D, TEXTURE_BINDING_2D, 1..3)
+        .textures(TEXTURE_2D_ARRAY, TEXTURE_BINDING_2D_ARRAY, 1..2)
         .samplers(1..3)
         .depth_range()
         .depth_func()
@@ -115,6 +116,9 @@ pub fn apply(
     copies.copy(gl, t, dof.is_some());
     // Window depth is NDC depth under `glClipControl(.., GL_ZERO_TO_ONE)`, else (z + 1)/2.
     let zero_to_one = crate::synth::zero_to_one(gl);
+    if dof.is_some() {
+        super::comfort_record::overlay(gl, passes, copies, mv, model, zero_to_one)?;
+    }
     let near_ndc = if zero_to_one { 0.0 } else { -1.0 };
     let quad_z = |z: f64| z.clamp(near_ndc, 1.0) as f32;
     // SAFETY: the depth test against our copies, never writing them; restored by the guard.

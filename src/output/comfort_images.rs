@@ -38,6 +38,11 @@ impl ComfortCopies {
     }
 
     /// Textures and renderbuffers (shared by the share group).
+    /// The depth copy the stages test against (a renderbuffer of the quilt's depth format).
+    pub fn cull(&self) -> u32 {
+        self.cull
+    }
+
     pub fn textures(&self) -> [u32; 2] {
         [self.depth, self.half]
     }

@@ -8,6 +8,7 @@
 
 pub mod comfort;
 mod comfort_images;
+mod comfort_record;
 pub mod compose;
 pub mod device;
 pub mod device_image;

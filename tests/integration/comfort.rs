@@ -393,7 +393,6 @@ fn dof_on(program: &str, how: &str) -> (f64, f64, usize, usize) {
 /// texture, depth renderbuffer) and copies it to the window with a full-screen sharpen pass,
 /// so framebuffer 0 holds only the quad's depth. The blur must still find the background.
 #[test]
-#[ignore = "issue 22: the comfort pass still reads the quilt's depth, not the disparity record (0.00 % of pixels change)"]
 fn depth_of_field_blurs_the_background_of_a_composited_scene() {
     dof_on(
         "framebuffers",

@@ -63,7 +63,6 @@ pub fn end_frame(gl: &Gl, mv: &mut Multiview, frame: u64) {
         ));
     }
     mv.synth.forget_capture();
-    mv.record.clear(gl);
     super::reuse::plan_next_frame(mv, frame + 1);
     let measured = mv
         .settings

@@ -13,10 +13,12 @@
 //! translucent one where it covers at least half.
 //!
 //! The textures and framebuffers are ours; the draw-buffer list of our quilt and view
-//! framebuffers gains `RECORD_BUFFER` while recording (queried back from GL per draw, since
-//! the app's `glDrawBuffers` and our own passes reset it); buffer 7's blend state is put back
-//! to buffer 0's (the app's) after each draw. The record is cleared to "not recorded" when a
-//! frame ends.
+//! framebuffers gains `RECORD_BUFFER` for each recorded draw only (so clears, blits and
+//! every other draw into them never reach the record), and buffer 7's blend state and colour
+//! mask are put back to buffer 0's (the app's) after it. A draw into the target that is not
+//! seen through the camera (a HUD, a full-screen pass) is masked: the scene's record stays.
+//! The record is cleared to "not recorded" after the frame is presented (the comfort pass is
+//! its last reader).
 
 use crate::gl::guard::get_i;
 use crate::gl::*;
@@ -42,6 +44,8 @@ pub struct DisparityRecord {
     read: Vec<(u32, RecordImage, i32)>,
     /// Buffer 7's blend state was changed for the current draw.
     blend_changed: bool,
+    /// Buffer 7's colour mask was cleared for the current draw.
+    masked: bool,
 }
 
 fn image(gl: &Gl, size: (i32, i32), layers: i32) -> RecordImage {
@@ -117,7 +121,9 @@ impl DisparityRecord {
     }
 
     /// Attaches `img` (layer `layer` of an array) to the bound draw framebuffer (ours: the
-    /// quilt or a view framebuffer) and puts `RECORD_BUFFER` in its draw-buffer list.
+    /// quilt or a view framebuffer) and puts `RECORD_BUFFER` in its draw-buffer list for the
+    /// draw; `release_bound` takes it out again, so that blits into the quilt (ours, the
+    /// app's) and everything drawn outside a recorded draw never reach the record.
     pub fn attach_bound(gl: &Gl, img: RecordImage, layer: i32) {
         let mut name = 0;
         let mut at_layer = 0;
@@ -155,25 +161,32 @@ impl DisparityRecord {
         }
     }
 
-    /// Takes `RECORD_BUFFER` out of the bound draw framebuffer's list (the quilt, when the
-    /// camera no longer draws to framebuffer 0).
-    pub fn detach_bound(gl: &Gl) {
+    /// Takes `RECORD_BUFFER` out of the bound draw framebuffer's list after a recorded draw.
+    pub fn release_bound(gl: &Gl) {
         // SAFETY: our own framebuffer, bound by the caller; only the record's slot changes.
         unsafe {
             if get_i(gl, DRAW_BUFFER0 + RECORD_BUFFER) as GLenum == POINT {
-                let mut bufs = [NONE; RECORD_BUFFER as usize + 1];
-                for (i, b) in bufs.iter_mut().enumerate().take(RECORD_BUFFER as usize) {
+                let mut bufs = [NONE; RECORD_BUFFER as usize];
+                for (i, b) in bufs.iter_mut().enumerate() {
                     *b = get_i(gl, DRAW_BUFFER0 + i as u32) as GLenum;
                 }
-                gl.DrawBuffers(bufs.len() as i32, bufs.as_ptr());
+                let n = bufs.iter().rposition(|&b| b != NONE).map_or(1, |i| i + 1);
+                gl.DrawBuffers(n as i32, bufs.as_ptr());
             }
-            gl.FramebufferTexture2D(DRAW_FRAMEBUFFER, POINT, TEXTURE_2D, 0, 0);
         }
     }
 
     /// Before a draw into a recording target: the record's blend for what this draw writes
-    /// there (`records`: its fragment shader writes the record; `blending`: the app blends).
-    pub fn before_draw(&mut self, gl: &Gl, records: bool, blending: bool) {
+    /// there (`records`: its fragment shader writes the record; `blending`: the app blends),
+    /// or, for a draw not seen through the camera (`camera` false: a HUD, a full-screen pass
+    /// into the scene's framebuffer), the record's buffer masked: it keeps the scene's.
+    pub fn before_draw(&mut self, gl: &Gl, camera: bool, records: bool, blending: bool) {
+        if !camera {
+            // SAFETY: the record's colour mask, put back to buffer 0's by `after_draw`.
+            unsafe { gl.ColorMaski(RECORD_BUFFER, FALSE, FALSE, FALSE, FALSE) };
+            self.masked = true;
+            return;
+        }
         // SAFETY: per-buffer blend state of the record's draw buffer, put back by `after_draw`.
         unsafe {
             if records && !blending {
@@ -190,8 +203,17 @@ impl DisparityRecord {
         self.blend_changed = true;
     }
 
-    /// Buffer 7's blend state back to buffer 0's (what the app set for all buffers).
+    /// Buffer 7's blend state and colour mask back to buffer 0's (what the app set for all
+    /// buffers).
     pub fn after_draw(&mut self, gl: &Gl) {
+        if std::mem::take(&mut self.masked) {
+            let mut m = [0u8; 4];
+            // SAFETY: buffer 0's colour mask into a local, then onto buffer 7.
+            unsafe {
+                gl.GetBooleani_v(COLOR_WRITEMASK, 0, m.as_mut_ptr());
+                gl.ColorMaski(RECORD_BUFFER, m[0], m[1], m[2], m[3]);
+            }
+        }
         if !std::mem::take(&mut self.blend_changed) {
             return;
         }
@@ -251,16 +273,6 @@ impl DisparityRecord {
             (*held, *held_layer) = (img, layer_flip);
         }
         *fbo
-    }
-
-    /// The app's framebuffer `fbo` (0: the quilt) has our record attached to what it draws
-    /// into.
-    pub fn holds(&self, fbo: u32) -> bool {
-        if fbo == 0 {
-            self.quilt.is_some()
-        } else {
-            self.shadow.is_some_and(|(f, _)| f == fbo)
-        }
     }
 
     /// Every record back to "not recorded", for the next frame.

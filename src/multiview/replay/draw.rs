@@ -118,14 +118,15 @@ fn replay(
             set_view(mv, i);
             set_fragcoord(gl, app.program, fragcoord, Some((layout, i)));
         };
-        let recorded = super::record::quilt(gl, app, mv, blending);
+        let recorded = super::record::quilt(gl, app, mv, (shift.camera(), blending));
         draw_tiles(gl, app, mv, layout, scissored, set_tile, f);
         if recorded {
             mv.record.after_draw(gl);
+            DisparityRecord::release_bound(gl);
         }
         set_fragcoord(gl, app.program, fragcoord, None);
     } else if let Some(views) = layers::target_views(gl, mv, app.draw_fbo, shift.camera(), subs) {
-        let record = super::record::shadow(gl, app, mv, blending);
+        let record = super::record::shadow(gl, app, mv, (shift.camera(), blending));
         let scale = mv.shadows.get(&app.draw_fbo).map_or(LayerScale::ONE, |s| s.scale);
         let fragcoord = current_info(app).map_or(-1, |p| p.fragcoord_loc);
         let scaled = (!scale.is_one()).then(|| scale_pass(gl, app, scale, scissored, fragcoord));
@@ -141,6 +142,9 @@ fn replay(
             }
             set_view(mv, i as u32);
             f(i as u32);
+            if record.is_some() {
+                DisparityRecord::release_bound(gl);
+            }
         }
         if record.is_some() {
             mv.record.after_draw(gl);

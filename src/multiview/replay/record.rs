@@ -8,11 +8,11 @@ use crate::multiview::quilt::record::{DisparityRecord, RecordImage};
 use crate::shader::record::RECORD_BUFFER;
 use crate::state::AppState;
 
-/// This draw goes into the scene target of a frame the fast modes warp, with recording on.
+/// This draw goes into the scene target of a frame whose warp (before it) or depth of field
+/// reads the record, with recording on.
 pub fn wanted(app: &AppState, mv: &Multiview) -> bool {
     mv.settings.disparity_record
-        && mv.plan.synthesise
-        && !mv.plan.warped
+        && (mv.plan.synthesise && !mv.plan.warped || mv.settings.comfort.dof.is_some())
         && mv.record_supported
         && mv.scene.tracker.target == Some(app.draw_fbo)
 }
@@ -24,7 +24,7 @@ fn program_records(app: &AppState) -> bool {
 
 /// A draw into the quilt (framebuffer 0, bound): the quilt's record attached and the draw's
 /// blend set; true when it records (`DisparityRecord::after_draw` then follows the draw).
-pub fn quilt(gl: &Gl, app: &AppState, mv: &mut Multiview, blending: bool) -> bool {
+pub fn quilt(gl: &Gl, app: &AppState, mv: &mut Multiview, (camera, blending): (bool, bool)) -> bool {
     if !wanted(app, mv) {
         return false;
     }
@@ -38,13 +38,13 @@ pub fn quilt(gl: &Gl, app: &AppState, mv: &mut Multiview, blending: bool) -> boo
     };
     let img = mv.record.quilt_image(gl, size);
     DisparityRecord::attach_bound(gl, img, 0);
-    mv.record.before_draw(gl, program_records(app), blending);
+    mv.record.before_draw(gl, camera, program_records(app), blending);
     true
 }
 
 /// A draw into the shadow of the app's framebuffer: the record beside its layers (attached per
 /// view framebuffer by the caller) with the draw's blend set, when it records.
-pub fn shadow(gl: &Gl, app: &AppState, mv: &mut Multiview, blending: bool) -> Option<RecordImage> {
+pub fn shadow(gl: &Gl, app: &AppState, mv: &mut Multiview, (camera, blending): (bool, bool)) -> Option<RecordImage> {
     if !wanted(app, mv) {
         return None;
     }
@@ -70,6 +70,6 @@ pub fn shadow(gl: &Gl, app: &AppState, mv: &mut Multiview, blending: bool) -> Op
         return None;
     }
     let img = mv.record.shadow_image(gl, fbo, size, views);
-    mv.record.before_draw(gl, program_records(app), blending);
+    mv.record.before_draw(gl, camera, program_records(app), blending);
     Some(img)
 }

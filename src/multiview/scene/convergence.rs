@@ -186,8 +186,10 @@ pub fn update_convergence(gl: &Gl, app: &mut AppState, mv: &mut Multiview) {
         return;
     };
     // `--mode auto` reads the scene's depth too, for what the scene needs (`auto`); the
-    // fast modes follow the scene's framebuffer to warp by its depth.
-    if reads_depth(mv) || mv.plan.fast() {
+    // fast modes follow the scene's framebuffer to warp by its depth, and the depth of field
+    // to read its disparity record.
+    let dof_records = mv.settings.disparity_record && mv.settings.comfort.dof.is_some();
+    if reads_depth(mv) || mv.plan.fast() || dof_records {
         // Not `take_depth`: at the swap the frame has been warped (`synthesis::end_frame`
         // runs first) and the plan is the next frame's, which must not get this depth.
         if mv.scene.tracker.phase == Phase::Drawn {

@@ -77,29 +77,8 @@ pub(crate) fn glScissor(real: impl Fn(GLint, GLint, GLsizei, GLsizei), x: GLint,
 /// A clear (`depth`: of the depth buffer too), per tile or layer; a scene depth it would
 /// erase is copied first for auto-convergence.
 fn clear_tiles(depth: bool, f: impl Fn()) {
-    clear_tiles_of(depth, false, f)
-}
-
-/// `clear_tiles`; `color`: a `glClear` of every colour buffer, which reaches the disparity
-/// record's too (ours, in the quilt or a shadow): that one goes back to "not recorded".
-fn clear_tiles_of(depth: bool, color: bool, f: impl Fn()) {
     let done = with_active(|_, app, mv, gl| {
         crate::multiview::scene::convergence::before_erase(gl, app, mv, app.draw_fbo, depth);
-        if color && mv.record.holds(app.draw_fbo) {
-            let zero = [0f32; 4];
-            let g = || {
-                f();
-                // SAFETY: our record's draw buffer of the bound framebuffer (ours).
-                unsafe {
-                    gl.ClearBufferfv(
-                        crate::gl::COLOR,
-                        crate::shader::record::RECORD_BUFFER as i32,
-                        zero.as_ptr(),
-                    )
-                };
-            };
-            return transfers::clear(gl, app, mv, g);
-        }
         transfers::clear(gl, app, mv, &f)
     });
     if done.is_none() {
@@ -108,8 +87,7 @@ fn clear_tiles_of(depth: bool, color: bool, f: impl Fn()) {
 }
 
 pub(crate) fn glClear(real: impl Fn(GLbitfield), mask: GLbitfield) {
-    let color = mask & crate::gl::COLOR_BUFFER_BIT != 0;
-    clear_tiles_of(mask & crate::gl::DEPTH_BUFFER_BIT != 0, color, || real(mask))
+    clear_tiles(mask & crate::gl::DEPTH_BUFFER_BIT != 0, || real(mask))
 }
 
 pub(crate) fn glClearBufferfv(

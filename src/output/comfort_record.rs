@@ -1,0 +1,106 @@
+//! The disparity record in the comfort pass (DESIGN §5: the depth of field reads the same
+//! parallax as every other consumer).
+//!
+//! The depth of field tests and shades against a copy of the quilt's depth, through the
+//! scene's depth model. On a renderer that draws its scene off-screen and composites it, that
+//! depth is the composite's full-screen quad (or nothing), and the blur found no background.
+//! The record knows each rendered pixel's parallax wherever the scene was drawn, so before
+//! the stages run, every recorded pixel's depth in the copy is replaced by the window depth
+//! the scene's model gives that parallax (`comfort_record.frag`, one full-screen pass per
+//! tile, depth writes only): the stages, their early depth rejection and their stencil marks
+//! then work on it unchanged. Unrecorded pixels (fixed-function draws, views the fast modes
+//! synthesised, whose depth the warp wrote) keep the quilt's depth.
+
+use super::comfort_images::ComfortCopies;
+use crate::gl::*;
+use crate::multiview::Multiview;
+use crate::synth::disparity::ParallaxModel;
+
+const FRAG: &str = include_str!("../../glsl-patches/comfort_record.frag");
+
+/// Writes the record's depth into `copies`' depth (its cull renderbuffer, then the sampled
+/// texture). Runs inside the comfort pass's state guard; leaves colour writes on.
+pub fn overlay(
+    gl: &Gl,
+    passes: &mut super::pass::Passes,
+    copies: &ComfortCopies,
+    mv: &Multiview,
+    model: ParallaxModel,
+    zero_to_one: bool,
+) -> Result<(), String> {
+    let Some(t) = mv.target.as_ref() else { return Ok(()) };
+    let source = match mv.scene.tracker.target {
+        Some(0) => mv.record.quilt.map(|r| (r, true)),
+        Some(f) => mv.record.shadow.filter(|(g, _)| *g == f).map(|(_, r)| (r, false)),
+        None => None,
+    };
+    let Some((img, quilt)) = source.filter(|_| model.scale != 0.0) else {
+        return Ok(());
+    };
+    let program = passes.program(gl, mv.info, "comfort-record", FRAG)?;
+    let layout = t.layout;
+    let loc = |name| super::pass::uniform(gl, program, name);
+    // SAFETY: our framebuffer, program and textures; the comfort pass's guard restores them.
+    unsafe {
+        gl.BindFramebuffer(DRAW_FRAMEBUFFER, copies.fbo);
+        gl.ColorMask(FALSE, FALSE, FALSE, FALSE);
+        gl.Enable(DEPTH_TEST);
+        gl.DepthFunc(ALWAYS);
+        gl.DepthMask(TRUE);
+        gl.Disable(STENCIL_TEST);
+        gl.UseProgram(program);
+        gl.ActiveTexture(TEXTURE1);
+        if quilt {
+            gl.BindTexture(TEXTURE_2D, img.texture);
+        } else {
+            gl.BindTexture(TEXTURE_2D_ARRAY, img.texture);
+        }
+        gl.BindSampler(1, 0);
+        gl.Uniform1i(loc("u_quilt_record"), if quilt { 1 } else { 3 });
+        gl.Uniform1i(loc("u_shadow_record"), if quilt { 3 } else { 1 });
+        gl.Uniform2i(loc("u_src_size"), img.size.0, img.size.1);
+        let rows = if quilt && layout.flipped {
+            layout.height() as i32
+        } else {
+            0
+        };
+        gl.Uniform1i(loc("u_quilt_rows"), rows);
+        let m = model;
+        gl.Uniform4f(loc("u_model"), m.a_hi, m.a_lo, m.scale, zero_to_one as i32 as f32);
+        gl.Uniform1f(loc("u_quad_z"), 0.0);
+    }
+    for i in 0..layout.views() {
+        let r = layout.tile_rect(i);
+        // SAFETY: viewport and our uniforms, as above.
+        unsafe {
+            gl.Viewport(r[0], r[1], r[2], r[3]);
+            gl.Uniform4i(loc("u_tile"), r[0], r[1], r[2], r[3]);
+            gl.Uniform1i(loc("u_layer"), if quilt { -1 } else { i as i32 });
+        }
+        passes.draw(gl);
+    }
+    let (w, h) = (layout.width() as i32, layout.height() as i32);
+    // SAFETY: our renderbuffer into our texture, same format and size; colour writes back on
+    // for the stages (the guard restores the app's).
+    unsafe {
+        gl.CopyImageSubData(
+            copies.cull(),
+            RENDERBUFFER,
+            0,
+            0,
+            0,
+            0,
+            copies.depth,
+            TEXTURE_2D,
+            0,
+            0,
+            0,
+            0,
+            w,
+            h,
+            1,
+        );
+        gl.ColorMask(TRUE, TRUE, TRUE, TRUE);
+    }
+    Ok(())
+}
