@@ -14,9 +14,9 @@
 //!
 //! The textures and framebuffers are ours; the draw-buffer list of our quilt and view
 //! framebuffers gains `RECORD_BUFFER` for each recorded draw only (so clears, blits and
-//! every other draw into them never reach the record), and buffer 7's blend state and colour
-//! mask are put back to buffer 0's (the app's) after it. A draw into the target that is not
-//! seen through the camera (a HUD, a full-screen pass) is masked: the scene's record stays.
+//! every other draw into them never reach the record), and buffer 7's blend state is put back
+//! to buffer 0's (the app's) after it. A draw into the target that is not seen through the
+//! camera (a HUD, a full-screen pass) is not recorded at all: the scene's record stays.
 //! The record is cleared to "not recorded" after the frame is presented (the comfort pass is
 //! its last reader).
 
@@ -44,8 +44,6 @@ pub struct DisparityRecord {
     read: Vec<(u32, RecordImage, i32)>,
     /// Buffer 7's blend state was changed for the current draw.
     blend_changed: bool,
-    /// Buffer 7's colour mask was cleared for the current draw.
-    masked: bool,
 }
 
 fn image(gl: &Gl, size: (i32, i32), layers: i32) -> RecordImage {
@@ -72,11 +70,6 @@ fn image(gl: &Gl, size: (i32, i32), layers: i32) -> RecordImage {
 }
 
 impl DisparityRecord {
-    /// Whether this context can record (per-buffer blending, GL 4.0; DSA, 4.5).
-    pub fn supported(gl: &Gl) -> bool {
-        gl.BlendFunci.is_loaded() && gl.CreateTextures.is_loaded() && gl.ClearTexImage.is_loaded()
-    }
-
     /// The quilt's record, made (or remade) for a quilt of `size`.
     pub fn quilt_image(&mut self, gl: &Gl, size: (i32, i32)) -> RecordImage {
         match self.quilt {
@@ -177,16 +170,8 @@ impl DisparityRecord {
     }
 
     /// Before a draw into a recording target: the record's blend for what this draw writes
-    /// there (`records`: its fragment shader writes the record; `blending`: the app blends),
-    /// or, for a draw not seen through the camera (`camera` false: a HUD, a full-screen pass
-    /// into the scene's framebuffer), the record's buffer masked: it keeps the scene's.
-    pub fn before_draw(&mut self, gl: &Gl, camera: bool, records: bool, blending: bool) {
-        if !camera {
-            // SAFETY: the record's colour mask, put back to buffer 0's by `after_draw`.
-            unsafe { gl.ColorMaski(RECORD_BUFFER, FALSE, FALSE, FALSE, FALSE) };
-            self.masked = true;
-            return;
-        }
+    /// there (`records`: its fragment shader writes the record; `blending`: the app blends).
+    pub fn before_draw(&mut self, gl: &Gl, records: bool, blending: bool) {
         // SAFETY: per-buffer blend state of the record's draw buffer, put back by `after_draw`.
         unsafe {
             if records && !blending {
@@ -203,17 +188,8 @@ impl DisparityRecord {
         self.blend_changed = true;
     }
 
-    /// Buffer 7's blend state and colour mask back to buffer 0's (what the app set for all
-    /// buffers).
+    /// Buffer 7's blend state back to buffer 0's (what the app set for all buffers).
     pub fn after_draw(&mut self, gl: &Gl) {
-        if std::mem::take(&mut self.masked) {
-            let mut m = [0u8; 4];
-            // SAFETY: buffer 0's colour mask into a local, then onto buffer 7.
-            unsafe {
-                gl.GetBooleani_v(COLOR_WRITEMASK, 0, m.as_mut_ptr());
-                gl.ColorMaski(RECORD_BUFFER, m[0], m[1], m[2], m[3]);
-            }
-        }
         if !std::mem::take(&mut self.blend_changed) {
             return;
         }

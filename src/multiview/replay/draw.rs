@@ -91,7 +91,8 @@ fn replay(
     let fixed = matches!(shift, Shift::Projection { .. });
     let app_matrix_mode = fixed.then(|| app.matrix_mode(gl));
     let scissored = app.enabled(gl, SCISSOR_TEST);
-    let blending = super::record::wanted(app, mv) && app.enabled(gl, BLEND);
+    let records = shift.camera() && super::record::wanted(app, mv);
+    let blending = records && app.enabled(gl, BLEND);
     let app: &AppState = app;
     let identity = matches!(shift, Shift::Uniform { camera: false, .. });
     screen_space::camera_uniforms(app, mv, identity, &mut scratch.camera_uniforms);
@@ -118,7 +119,7 @@ fn replay(
             set_view(mv, i);
             set_fragcoord(gl, app.program, fragcoord, Some((layout, i)));
         };
-        let recorded = super::record::quilt(gl, app, mv, (shift.camera(), blending));
+        let recorded = records && super::record::quilt(gl, app, mv, blending);
         draw_tiles(gl, app, mv, layout, scissored, set_tile, f);
         if recorded {
             mv.record.after_draw(gl);
@@ -126,7 +127,11 @@ fn replay(
         }
         set_fragcoord(gl, app.program, fragcoord, None);
     } else if let Some(views) = layers::target_views(gl, mv, app.draw_fbo, shift.camera(), subs) {
-        let record = super::record::shadow(gl, app, mv, (shift.camera(), blending));
+        let record = if records {
+            super::record::shadow(gl, app, mv, blending)
+        } else {
+            None
+        };
         let scale = mv.shadows.get(&app.draw_fbo).map_or(LayerScale::ONE, |s| s.scale);
         let fragcoord = current_info(app).map_or(-1, |p| p.fragcoord_loc);
         let scaled = (!scale.is_one()).then(|| scale_pass(gl, app, scale, scissored, fragcoord));

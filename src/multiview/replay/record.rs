@@ -9,7 +9,9 @@ use crate::shader::record::RECORD_BUFFER;
 use crate::state::AppState;
 
 /// This draw goes into the scene target of a frame whose warp (before it) or depth of field
-/// reads the record, with recording on.
+/// reads the record, with recording on. Asked once per draw, and only for draws seen through
+/// the camera: the rest (a HUD, a full-screen pass) never reach the record, whose draw
+/// buffer is there for recorded draws alone, so the scene's record stays under them.
 pub fn wanted(app: &AppState, mv: &Multiview) -> bool {
     mv.settings.disparity_record
         && (mv.plan.synthesise && !mv.plan.warped || mv.settings.comfort.dof.is_some())
@@ -24,10 +26,7 @@ fn program_records(app: &AppState) -> bool {
 
 /// A draw into the quilt (framebuffer 0, bound): the quilt's record attached and the draw's
 /// blend set; true when it records (`DisparityRecord::after_draw` then follows the draw).
-pub fn quilt(gl: &Gl, app: &AppState, mv: &mut Multiview, (camera, blending): (bool, bool)) -> bool {
-    if !wanted(app, mv) {
-        return false;
-    }
+pub fn quilt(gl: &Gl, app: &AppState, mv: &mut Multiview, blending: bool) -> bool {
     let Some(size) = mv
         .target
         .as_ref()
@@ -38,16 +37,13 @@ pub fn quilt(gl: &Gl, app: &AppState, mv: &mut Multiview, (camera, blending): (b
     };
     let img = mv.record.quilt_image(gl, size);
     DisparityRecord::attach_bound(gl, img, 0);
-    mv.record.before_draw(gl, camera, program_records(app), blending);
+    mv.record.before_draw(gl, program_records(app), blending);
     true
 }
 
 /// A draw into the shadow of the app's framebuffer: the record beside its layers (attached per
 /// view framebuffer by the caller) with the draw's blend set, when it records.
-pub fn shadow(gl: &Gl, app: &AppState, mv: &mut Multiview, (camera, blending): (bool, bool)) -> Option<RecordImage> {
-    if !wanted(app, mv) {
-        return None;
-    }
+pub fn shadow(gl: &Gl, app: &AppState, mv: &mut Multiview, blending: bool) -> Option<RecordImage> {
     let fbo = app.draw_fbo;
     let s = mv.shadows.get(&fbo).filter(|s| !s.stale)?;
     let (size, views) = (s.size, s.views.len() as i32);
@@ -70,6 +66,6 @@ pub fn shadow(gl: &Gl, app: &AppState, mv: &mut Multiview, (camera, blending): (
         return None;
     }
     let img = mv.record.shadow_image(gl, fbo, size, views);
-    mv.record.before_draw(gl, camera, program_records(app), blending);
+    mv.record.before_draw(gl, program_records(app), blending);
     Some(img)
 }
