@@ -152,13 +152,16 @@ impl Settings {
         self.view.output != Output::Mono
     }
 
-    /// Rendered views record each pixel's disparity (`shader::record`): the fast modes and
-    /// the depth of field read it. Decided at link time, so a mode or a depth of field chosen
-    /// later reads depth only.
+    /// Rendered views record each pixel's disparity (`shader::record`): the fast modes, the
+    /// comfort pass, auto-convergence and `--dump-disparity` read it. Decided at link time, so a mode, a depth of
+    /// field or an auto-convergence chosen later reads depth only.
     pub fn records_disparity(&self) -> bool {
         self.multiview()
             && self.view.disparity_record
-            && (self.view.mode != Mode::Exact || self.view.comfort.dof.is_some())
+            && (self.view.mode != Mode::Exact
+                || self.view.comfort.post_pass()
+                || self.view.convergence == Convergence::Auto
+                || self.dump_disparity)
     }
 
     pub fn dumps(&self, frame: u64) -> bool {

@@ -290,3 +290,22 @@ pub fn read_depth(gl: &Gl, info: GlInfo, fbo: u32, rect: [i32; 4]) -> Vec<f32> {
     drop(guard);
     depth
 }
+
+/// The `RG32F` pairs of `rect` of framebuffer `fbo`'s read buffer (a disparity record), rows
+/// bottom-up; read state restored.
+pub fn read_rg(gl: &Gl, info: GlInfo, fbo: u32, rect: [i32; 4]) -> Vec<f32> {
+    use super::*;
+    let mut rg = vec![0f32; 2 * rect[2].max(0) as usize * rect[3].max(0) as usize];
+    let guard = PixelStateGuard::save(gl, info);
+    // SAFETY: as in `read_depth`, with two floats per pixel.
+    unsafe {
+        gl.BindFramebuffer(READ_FRAMEBUFFER, fbo);
+        if info.has_pack_buffer() {
+            gl.BindBuffer(PIXEL_PACK_BUFFER, 0);
+        }
+        guard.pack_tightly(gl, 4);
+        gl.ReadPixels(rect[0], rect[1], rect[2], rect[3], RG, FLOAT, rg.as_mut_ptr().cast());
+    }
+    drop(guard);
+    rg
+}

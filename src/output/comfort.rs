@@ -3,7 +3,8 @@
 //!
 //! Both effects need each pixel's disparity, so they need the quilt's depth: the pass copies
 //! it into a texture (a raw copy of the renderbuffer; a multisampled quilt's is resolved
-//! first). Neither effect touches most pixels, and the pass is built so that the pixels it
+//! first), and where the scene recorded its disparity, the record's depth overwrites it
+//! (`comfort_record`: one disparity per pixel, DESIGN §5). Neither effect touches most pixels, and the pass is built so that the pixels it
 //! leaves alone cost next to nothing (`scripts/comfort-figures.py` measures it):
 //!
 //! - Depth of field (Agus et al.'s downsampled pre-blurred image blended by a variable
@@ -104,7 +105,7 @@ pub fn apply(
         .framebuffers()
         .for_pass()
         .textures(TEXTURE_2D, TEXTURE_BINDING_2D, 1..3)
-        .textures(TEXTURE_2D_ARRAY, TEXTURE_BINDING_2D_ARRAY, 1..2)
+        .textures(TEXTURE_2D_ARRAY, TEXTURE_BINDING_2D_ARRAY, 1..3)
         .samplers(1..3)
         .depth_range()
         .depth_func()
@@ -113,10 +114,12 @@ pub fn apply(
         .caps(&[POLYGON_OFFSET_FILL]);
     super::pass::neutral_state(gl, mv.info);
     copies.ensure(gl, t, depth_format)?;
-    copies.copy(gl, t, dof.is_some());
+    // The record, where there is one, overwrites the tested copy's depth (`comfort_record`).
+    let recorded = super::comfort_record::source(mv).is_some() && model.scale != 0.0;
+    copies.copy(gl, t, dof.is_some() || recorded);
     // Window depth is NDC depth under `glClipControl(.., GL_ZERO_TO_ONE)`, else (z + 1)/2.
     let zero_to_one = crate::synth::zero_to_one(gl);
-    if dof.is_some() {
+    if recorded {
         super::comfort_record::overlay(gl, passes, copies, mv, model, zero_to_one)?;
     }
     let near_ndc = if zero_to_one { 0.0 } else { -1.0 };
@@ -177,10 +180,10 @@ pub fn apply(
         );
     }
     if let (Some(fade_program), Some(band)) = (fade, c.edge_fade) {
-        // The quilt's own depth is as good to test against as our copy.
-        // SAFETY: binding the quilt's framebuffer; restored by the guard.
+        // Without a record the quilt's own depth is as good to test against as our copy.
+        // SAFETY: binding the quilt's framebuffer or ours; restored by the guard.
         unsafe {
-            gl.BindFramebuffer(DRAW_FRAMEBUFFER, t.resolved_fbo);
+            gl.BindFramebuffer(DRAW_FRAMEBUFFER, if recorded { copies.fbo } else { t.resolved_fbo });
             gl.Disable(STENCIL_TEST);
         }
         stages.blend();

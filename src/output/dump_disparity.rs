@@ -5,10 +5,12 @@
 //! `s·(1 - c/w)` times half the tile width, plus the focus), the unit every comfort range
 //! and `--depth-remap` uses, so one image reads the same at any view count. It is what the
 //! fast modes, auto-convergence and the comfort pass take a pixel's disparity to be: the
-//! scene's depth where the main camera drew it (`scene::convergence::view_depth`), through
-//! the scene's depth model (a pixel at the far clear, a sky drawn without depth, at the far
-//! plane). Red stands in front of the screen, white on it, blue behind; the darkest blue is
-//! infinity; grey is a pixel with no scene depth.
+//! disparity record where the view recorded it (DESIGN §5: the parallax exact mode gave the
+//! draw that left the pixel), else the scene's depth where the main camera drew it
+//! (`scene::convergence::view_depth`) through the scene's depth model (a pixel at the far
+//! clear, a sky drawn without depth, at the far plane). Red stands in front of the screen,
+//! white on it, blue behind; the darkest blue is infinity; grey is a pixel with no scene
+//! depth.
 
 use crate::camera::projection::DepthRange;
 use crate::config::Settings;
@@ -39,12 +41,19 @@ impl Disparity {
         } else {
             1.0
         };
+        self.of_parallax(parallax)
+    }
+
+    /// A recorded parallax (before the remap, as the record holds it).
+    fn of_parallax(&self, parallax: f64) -> f64 {
         let px = parallax * self.px_per_parallax;
         self.remap.map_or(px, |r| r.apply(px)) + self.focus_px
     }
 }
 
-pub fn disparity(frame: u64, gl: &Gl, mv: &Multiview, settings: &Settings) -> Result<(), String> {
+static DUMPED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+pub fn disparity(frame: u64, gl: &Gl, mv: &mut Multiview, settings: &Settings) -> Result<(), String> {
     let dir = settings.dump_dir.as_ref().ok_or("no dump directory")?;
     let target = mv.target.as_ref().ok_or("no quilt")?;
     let model = mv
@@ -68,11 +77,35 @@ pub fn disparity(frame: u64, gl: &Gl, mv: &Multiview, settings: &Settings) -> Re
     let range = (rig.depthiness * half).abs().max(1.0);
     let (w, h) = (l.width() as usize, l.height() as usize);
     let mut rgb = vec![0u8; w * (h + LEGEND_H) * 3];
+    let mut recorded = 0usize;
     for view in 0..l.views() {
-        let depths = crate::multiview::scene::convergence::view_depth(mv, view)
-            .map(|(fbo, rect)| (crate::gl::readback::read_depth(gl, mv.info, fbo, rect), rect));
-        paint_view(&mut rgb, l, view, depths.as_ref(), |x| colour(d.of_depth(x), range));
+        let Some((fbo, rect)) = crate::multiview::scene::convergence::view_depth(mv, view) else {
+            paint_view(&mut rgb, l, view, None, range);
+            continue;
+        };
+        let mut px: Vec<f64> = crate::gl::readback::read_depth(gl, mv.info, fbo, rect)
+            .into_iter()
+            .map(|x| d.of_depth(x))
+            .collect();
+        // Where the view recorded its disparity, the record's (a synthesised view's tile or
+        // layer holds none: the depth its warp wrote stands).
+        if let Some((record_fbo, _)) = crate::multiview::quilt::record::source(gl, mv, view, rect) {
+            let rg = crate::gl::readback::read_rg(gl, mv.info, record_fbo, rect);
+            for (v, r) in px.iter_mut().zip(rg.chunks_exact(2)).filter(|(_, r)| r[1] > 0.5) {
+                *v = d.of_parallax(f64::from(r[0]));
+                recorded += 1;
+            }
+        }
+        paint_view(&mut rgb, l, view, Some(&(px, rect)), range);
     }
+    crate::log::once(
+        &DUMPED,
+        crate::log::Level::Info,
+        format_args!(
+            "--dump-disparity: {:.1} % of the quilt's pixels from the disparity record, the rest from depth",
+            100.0 * recorded as f64 / (w * h).max(1) as f64
+        ),
+    );
     legend(&mut rgb[w * h * 3..], w, range);
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let path = dir.join(format!("f{frame:06}_disparity_{}.png", l.file_tag()));
@@ -80,25 +113,19 @@ pub fn disparity(frame: u64, gl: &Gl, mv: &Multiview, settings: &Settings) -> Re
 }
 
 /// View `view`'s cell of the top-down image (view 0 bottom-left), each pixel from the
-/// nearest depth sample of `depths` (bottom-up, `rect`'s size: a scaled shadow's layer is
-/// stretched to the tile).
-fn paint_view(
-    rgb: &mut [u8],
-    l: QuiltLayout,
-    view: u32,
-    depths: Option<&(Vec<f32>, [i32; 4])>,
-    colour: impl Fn(f32) -> [u8; 3],
-) {
+/// nearest sample of `disparities` (px, bottom-up, `rect`'s size: a scaled shadow's layer is
+/// stretched to the tile), coloured over [-range, range].
+fn paint_view(rgb: &mut [u8], l: QuiltLayout, view: u32, disparities: Option<&(Vec<f64>, [i32; 4])>, range: f64) {
     let (tw, th) = (l.tile_w as usize, l.tile_h as usize);
     let (col, row) = ((view % l.cols) as usize, (view / l.cols) as usize);
     let (w, h) = (l.width() as usize, l.height() as usize);
     for ty in 0..th {
         for tx in 0..tw {
-            let c = match depths {
+            let c = match disparities {
                 Some((values, r)) if !values.is_empty() => {
                     let sx = (tx * r[2] as usize / tw).min(r[2] as usize - 1);
                     let sy = (ty * r[3] as usize / th).min(r[3] as usize - 1);
-                    colour(values[sy * r[2] as usize + sx])
+                    colour(values[sy * r[2] as usize + sx], range)
                 }
                 _ => NO_DEPTH,
             };

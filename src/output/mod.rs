@@ -77,7 +77,7 @@ impl Presenter {
     }
 
     /// The quilt and, after a native present, the weave, as PNGs of frame `frame`.
-    pub fn dump(&self, frame: u64, gl: &Gl, mv: &Multiview, settings: &Settings) -> Result<(), String> {
+    pub fn dump(&self, frame: u64, gl: &Gl, mv: &mut Multiview, settings: &Settings) -> Result<(), String> {
         dump::quilt(frame, gl, mv, settings)?;
         if settings.dump_disparity {
             dump_disparity::disparity(frame, gl, mv, settings)?;

@@ -407,3 +407,43 @@ fn depth_of_field_blurs_the_background_of_a_composited_scene() {
 fn depth_of_field_blurs_the_background_of_a_directly_drawn_scene() {
     dof_on("shadowmap", "scene drawn into the window");
 }
+
+/// The edge fade on the multi-pass scene, composited (`framebuffers`) and drawn into the
+/// window (`shadowmap`): the floor runs into both borders in front of the screen plane, so
+/// both must fade it in the bands and nowhere else, and the composited scene as the direct
+/// one (measured: the same 23,412 px; the sharpen pass of the composite may move a few).
+/// Framebuffer 0 of the composite holds the full-screen quad's depth, not the scene's: the
+/// fade read it and faded the whole band, sky included (56,152 px), before it read the
+/// disparity record and, where nothing recorded, the scene framebuffer's depth.
+#[test]
+fn edge_fade_works_on_a_composited_scene() {
+    let band = 40;
+    let mut changed = Vec::new();
+    for program in ["shadowmap", "framebuffers"] {
+        let (plain, _) = multipass(program, "fade-plain", &[]);
+        let (faded, at) = multipass(program, "fade-on", &["--edge-fade", "40"]);
+        let mut n = 0;
+        for view in 0..3 {
+            let (a, b) = (tile(&plain, 3, 1, view), tile(&faded, 3, 1, view));
+            let cols = changed_columns(&a, &b);
+            assert!(
+                cols.iter().all(|&x| x < band || x >= a.width - band),
+                "{program} view {view}: columns outside the bands changed: {cols:?} ({})",
+                at.display()
+            );
+            n += pixels_off(&a, &b, 0);
+        }
+        eprintln!("{program}: --edge-fade 40 changed {n} px over the three views");
+        changed.push(n);
+    }
+    let (direct, composited) = (changed[0], changed[1]);
+    assert!(
+        direct > 500,
+        "the direct scene barely faded ({direct} px): the test sees nothing"
+    );
+    assert!(
+        (composited as f64 - direct as f64).abs() <= 0.1 * direct as f64,
+        "the composited scene faded {composited} px where the same scene drawn into the window fades {direct}: \
+         the fade does not see the scene's depth through the composite"
+    );
+}

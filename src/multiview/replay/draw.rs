@@ -91,8 +91,12 @@ fn replay(
     let fixed = matches!(shift, Shift::Projection { .. });
     let app_matrix_mode = fixed.then(|| app.matrix_mode(gl));
     let scissored = app.enabled(gl, SCISSOR_TEST);
-    let records = shift.camera() && super::record::wanted(app, mv);
-    let blending = records && app.enabled(gl, BLEND);
+    let records = if shift.camera() {
+        super::record::wanted(app, mv)
+    } else {
+        None
+    };
+    let blending = records.is_some() && app.enabled(gl, BLEND);
     let app: &AppState = app;
     let identity = matches!(shift, Shift::Uniform { camera: false, .. });
     screen_space::camera_uniforms(app, mv, identity, &mut scratch.camera_uniforms);
@@ -115,23 +119,22 @@ fn replay(
     };
     if app.draw_fbo == 0 {
         let fragcoord = current_info(app).map_or(-1, |p| p.fragcoord_loc);
+        let recorded = records.and_then(|v| Some((super::record::quilt(gl, app, mv, v, blending)?, v)));
         let set_tile = |mv: &Multiview, i| {
             set_view(mv, i);
             set_fragcoord(gl, app.program, fragcoord, Some((layout, i)));
+            if let Some((img, views)) = recorded {
+                super::record::tile(gl, img, views, i);
+            }
         };
-        let recorded = records && super::record::quilt(gl, app, mv, blending);
         draw_tiles(gl, app, mv, layout, scissored, set_tile, f);
-        if recorded {
+        if recorded.is_some() {
             mv.record.after_draw(gl);
             DisparityRecord::release_bound(gl);
         }
         set_fragcoord(gl, app.program, fragcoord, None);
     } else if let Some(views) = layers::target_views(gl, mv, app.draw_fbo, shift.camera(), subs) {
-        let record = if records {
-            super::record::shadow(gl, app, mv, blending)
-        } else {
-            None
-        };
+        let record = records.and_then(|v| Some((super::record::shadow(gl, app, mv, blending)?, v)));
         let scale = mv.shadows.get(&app.draw_fbo).map_or(LayerScale::ONE, |s| s.scale);
         let fragcoord = current_info(app).map_or(-1, |p| p.fragcoord_loc);
         let scaled = (!scale.is_one()).then(|| scale_pass(gl, app, scale, scissored, fragcoord));
@@ -142,12 +145,13 @@ fn replay(
             }
             // SAFETY: our view framebuffer in place of the app's; rebound below.
             unsafe { gl.BindFramebuffer(DRAW_FRAMEBUFFER, fbo) };
-            if let Some(img) = record {
+            let recording = record.filter(|(_, v)| v.includes(i as u32));
+            if let Some((img, _)) = recording {
                 DisparityRecord::attach_bound(gl, img, i as i32);
             }
             set_view(mv, i as u32);
             f(i as u32);
-            if record.is_some() {
+            if recording.is_some() {
                 DisparityRecord::release_bound(gl);
             }
         }

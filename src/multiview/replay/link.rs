@@ -248,7 +248,29 @@ fn try_rewrite(
     program: u32,
     record: bool,
 ) -> bool {
-    let new = match shader::rewrite_recording(original, analysis, record) {
+    // The shift without the record where the record cannot be had (GLSL ES, a stage whose
+    // outputs are full): the fragment side then sees no varying and records nothing.
+    if record {
+        match shader::rewrite_recording(original, analysis, true) {
+            Ok(new) if compile(gl, shader, &new) => {
+                group.lock().original_sources.insert(shader, original.to_string());
+                return true;
+            }
+            Ok(_) => {
+                crate::log::debug(format_args!(
+                    "program {program}: {:?} shader {shader} does not compile with the disparity record: {}",
+                    analysis.stage,
+                    shader_log(gl, shader).lines().next().unwrap_or("")
+                ));
+                compile(gl, shader, original);
+            }
+            Err(why) => crate::log::debug(format_args!(
+                "program {program}: {:?} shader {shader} without the disparity record: {why}",
+                analysis.stage
+            )),
+        }
+    }
+    let new = match shader::rewrite_recording(original, analysis, false) {
         Ok(s) => s,
         Err(why) => {
             crate::log::info(format_args!(

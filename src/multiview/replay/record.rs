@@ -8,15 +8,42 @@ use crate::multiview::quilt::record::{DisparityRecord, RecordImage};
 use crate::shader::record::RECORD_BUFFER;
 use crate::state::AppState;
 
-/// This draw goes into the scene target of a frame whose warp (before it) or depth of field
-/// reads the record, with recording on. Asked once per draw, and only for draws seen through
+/// Which rendered views of a recorded draw write the record.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Views {
+    /// Every one: the warps (before the warp point), the comfort pass and
+    /// `--dump-disparity` read them all.
+    All,
+    /// The one auto-convergence (and `--mode auto`) reads, nearest the centre: exact mode
+    /// pays for one view's record, not every view's.
+    Only(u32),
+}
+
+impl Views {
+    pub fn includes(self, view: u32) -> bool {
+        match self {
+            Views::All => true,
+            Views::Only(v) => v == view,
+        }
+    }
+}
+
+/// Whether this draw goes into the scene target of a frame whose record is read, with
+/// recording on, and for which views. Asked once per draw, and only for draws seen through
 /// the camera: the rest (a HUD, a full-screen pass) never reach the record, whose draw
 /// buffer is there for recorded draws alone, so the scene's record stays under them.
-pub fn wanted(app: &AppState, mv: &Multiview) -> bool {
-    mv.settings.disparity_record
-        && (mv.plan.synthesise && !mv.plan.warped || mv.settings.comfort.dof.is_some())
-        && mv.record_supported
-        && mv.scene.tracker.target == Some(app.draw_fbo)
+pub fn wanted(app: &AppState, mv: &Multiview) -> Option<Views> {
+    if !(mv.settings.disparity_record && mv.record_supported && mv.scene.tracker.target == Some(app.draw_fbo)) {
+        return None;
+    }
+    let dumps = crate::config::settings().dump_disparity;
+    if mv.plan.synthesise && !mv.plan.warped || mv.settings.comfort.post_pass() || dumps {
+        Some(Views::All)
+    } else if crate::multiview::scene::convergence::reads_depth(mv) {
+        Some(Views::Only(crate::multiview::scene::convergence::centre(mv)))
+    } else {
+        None
+    }
 }
 
 /// Its fragment shader writes the record (else the draw leaves "not recorded" there).
@@ -24,21 +51,33 @@ fn program_records(app: &AppState) -> bool {
     app.program != 0 && app.current.program == app.program && app.current.info.as_deref().is_some_and(|p| p.records)
 }
 
-/// A draw into the quilt (framebuffer 0, bound): the quilt's record attached and the draw's
-/// blend set; true when it records (`DisparityRecord::after_draw` then follows the draw).
-pub fn quilt(gl: &Gl, app: &AppState, mv: &mut Multiview, blending: bool) -> bool {
-    let Some(size) = mv
+/// A draw into the quilt (framebuffer 0, bound): the quilt's record attached (for every
+/// tile, or per tile by `tile`) and the draw's blend set; the record when it records
+/// (`DisparityRecord::after_draw` then follows the draw).
+pub fn quilt(gl: &Gl, app: &AppState, mv: &mut Multiview, views: Views, blending: bool) -> Option<RecordImage> {
+    let size = mv
         .target
         .as_ref()
         .filter(|t| t.samples == 0)
-        .map(|t| (t.layout.width() as i32, t.layout.height() as i32))
-    else {
-        return false;
-    };
+        .map(|t| (t.layout.width() as i32, t.layout.height() as i32))?;
     let img = mv.record.quilt_image(gl, size);
-    DisparityRecord::attach_bound(gl, img, 0);
+    if views == Views::All {
+        DisparityRecord::attach_bound(gl, img, 0);
+    }
     mv.record.before_draw(gl, program_records(app), blending);
-    true
+    Some(img)
+}
+
+/// Before tile `view` of a draw into the quilt that records `views` only.
+pub fn tile(gl: &Gl, img: RecordImage, views: Views, view: u32) {
+    if views == Views::All {
+        return;
+    }
+    if views.includes(view) {
+        DisparityRecord::attach_bound(gl, img, 0);
+    } else {
+        DisparityRecord::release_bound(gl);
+    }
 }
 
 /// A draw into the shadow of the app's framebuffer: the record beside its layers (attached per

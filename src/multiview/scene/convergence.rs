@@ -17,8 +17,8 @@ use crate::state::AppState;
 pub struct SceneDepth {
     pub tracker: SceneTracker,
     copy: DepthCopy,
-    /// Where this frame's copy came from, once taken.
-    taken: Option<Source>,
+    /// Where this frame's copy came from, once taken, and the rectangle of it.
+    taken: Option<(Source, [i32; 4])>,
     /// The target's camera draws and all camera draws of the frame it was chosen in.
     share: (u32, u32),
     /// The framebuffer copies of the target come from, and its depth format.
@@ -91,11 +91,11 @@ fn copy_for_convergence(gl: &Gl, app: &mut AppState, mv: &mut Multiview) {
         scissor: app.enabled(gl, SCISSOR_TEST),
     };
     mv.scene.copy.take(gl, mv.info, (fbo, format), rect, restore);
-    mv.scene.taken = Some(from);
+    mv.scene.taken = Some((from, rect));
 }
 
 /// Auto-convergence and `--mode auto` read the scene's depth back at the swap.
-fn reads_depth(mv: &Multiview) -> bool {
+pub fn reads_depth(mv: &Multiview) -> bool {
     mv.settings.convergence == Convergence::Auto || mv.auto.is_some()
 }
 
@@ -118,7 +118,7 @@ fn unreadable(target: u32, e: &str) {
 /// The rendered view nearest the centre: the centre itself, except in a fast mode that does
 /// not render it (hybrid:K with an even K), whose centre tile or layer holds no depth yet
 /// when the copy is taken.
-fn centre(mv: &Multiview) -> u32 {
+pub fn centre(mv: &Multiview) -> u32 {
     mv.scene
         .ended_view
         .unwrap_or_else(|| mv.plan.nearest(mv.camera.rig.centre()))
@@ -186,10 +186,11 @@ pub fn update_convergence(gl: &Gl, app: &mut AppState, mv: &mut Multiview) {
         return;
     };
     // `--mode auto` reads the scene's depth too, for what the scene needs (`auto`); the
-    // fast modes follow the scene's framebuffer to warp by its depth, and the depth of field
-    // to read its disparity record.
-    let dof_records = mv.settings.disparity_record && mv.settings.comfort.dof.is_some();
-    if reads_depth(mv) || mv.plan.fast() || dof_records {
+    // fast modes follow the scene's framebuffer to warp by its depth, and the depth of field,
+    // the edge fade and `--dump-disparity` to read its disparity record.
+    let records =
+        mv.settings.disparity_record && (mv.settings.comfort.post_pass() || crate::config::settings().dump_disparity);
+    if reads_depth(mv) || mv.plan.fast() || records {
         // Not `take_depth`: at the swap the frame has been warped (`synthesis::end_frame`
         // runs first) and the plan is the next frame's, which must not get this depth.
         if mv.scene.tracker.phase == Phase::Drawn {
@@ -208,7 +209,7 @@ pub fn update_convergence(gl: &Gl, app: &mut AppState, mv: &mut Multiview) {
 
 /// Harmonic mean depth of this frame's copy, smoothed into the convergence.
 fn estimate(gl: &Gl, mv: &mut Multiview) {
-    let (Some(from), Some(range), Some(target)) =
+    let (Some((from, rect)), Some(range), Some(target)) =
         (mv.scene.taken.take(), mv.camera.last_depth, mv.scene.tracker.target)
     else {
         return;
@@ -224,6 +225,7 @@ fn estimate(gl: &Gl, mv: &mut Multiview) {
             *d = (*d + 1.0) / 2.0;
         }
     }
+    let recorded = super::recorded::substitute(gl, mv, centre(mv), rect, range, &mut depths);
     let width = mv.scene.copy.copied().1[2].max(1) as usize;
     crate::multiview::fast::auto::scene_depth(mv, &depths, width, range);
     if mv.settings.convergence != Convergence::Auto {
@@ -237,7 +239,7 @@ fn estimate(gl: &Gl, mv: &mut Multiview) {
         crate::log::Level::Info,
         format_args!(
             "auto-convergence: scene at {c:.4} (near {:.4}, far {:.4}) from framebuffer {target}{}, where the \
-             main camera draws ({} of the frame's {} perspective draws){}",
+             main camera draws ({} of the frame's {} perspective draws){}{}",
             range.near(),
             range.far(),
             match from {
@@ -251,6 +253,13 @@ fn estimate(gl: &Gl, mv: &mut Multiview) {
                 "; read through a colour pass (ES has no depth read-back)"
             } else {
                 ""
+            },
+            match recorded {
+                0 => String::new(),
+                n => format!(
+                    "; {:.1} % of its pixels from the disparity record",
+                    100.0 * n as f64 / depths.len().max(1) as f64
+                ),
             },
         ),
     );

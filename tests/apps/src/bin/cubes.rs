@@ -46,6 +46,16 @@ struct Cubes {
     /// speed factor (`--spin`).
     orbit: f32,
     spin: f32,
+    /// A first-person "weapon" (`--weapon`): a box held before the eye, drawn last in eye
+    /// space; with `hack`, inside `glDepthRange(0, 0.3)` as id Tech 3 draws its weapon.
+    weapon: Weapon,
+}
+
+#[derive(Clone, Copy, PartialEq)]
+enum Weapon {
+    None,
+    Plain,
+    Hack,
 }
 
 impl Cubes {
@@ -62,6 +72,7 @@ impl Cubes {
             reversed: false,
             orbit: 0.0,
             spin: 1.0,
+            weapon: Weapon::None,
         })
     }
 
@@ -137,6 +148,18 @@ impl Scene for Cubes {
                 self.draw(gl, &m, c);
             }
         }
+        if self.weapon != Weapon::None {
+            let identity = math::scale(1.0, 1.0, 1.0);
+            let held = math::mul(&math::translate(0.9, -0.7, -2.2), &math::scale(0.5, 0.4, 1.6));
+            unsafe {
+                gl.UniformMatrix4fv(self.loc[1], 1, gl::FALSE, identity.as_ptr());
+                if self.weapon == Weapon::Hack {
+                    gl.DepthRange(0.0, 0.3);
+                }
+            }
+            self.draw(gl, &held, [0.8, 0.75, 0.7]);
+            unsafe { gl.DepthRange(0.0, 1.0) };
+        }
     }
 }
 
@@ -159,6 +182,11 @@ fn main() -> ExitCode {
                 "degrees per frame the camera orbits the centre (a moving camera)",
             ),
             ("spin", "1", "cube spin speed factor (0: still cubes)"),
+            (
+                "weapon",
+                "none",
+                "none | plain | hack: a box held before the eye, drawn last (hack: in glDepthRange(0, 0.3))",
+            ),
         ],
         switches: &[],
     };
@@ -183,6 +211,12 @@ fn main() -> ExitCode {
             };
             c.orbit = number("orbit")?;
             c.spin = number("spin")?;
+            c.weapon = match o.extra["weapon"].as_str() {
+                "none" => Weapon::None,
+                "plain" => Weapon::Plain,
+                "hack" => Weapon::Hack,
+                w => return Err(format!("--weapon: expected none|plain|hack, got '{w}'")),
+            };
             c.reversed = match o.extra["depth"].as_str() {
                 "standard" => false,
                 "reversed" => true,

@@ -1,0 +1,89 @@
+//! The scene's depth where the disparity record knows better (DESIGN §5: one disparity per
+//! pixel). Auto-convergence and `--mode auto` read the centre view's depth through the
+//! scene's depth model; a pixel the record covers is given instead the window depth that
+//! model assigns its recorded parallax, so a weapon in its own depth range counts where
+//! exact mode shows it, a sky at infinity as background, and a composite's quad not at all.
+
+use crate::camera::projection::DepthRange;
+use crate::gl::Gl;
+use crate::multiview::Multiview;
+use crate::synth::disparity::ParallaxModel;
+
+/// Parallax at or above this is infinity: the background, as the far clear is.
+const INFINITY_PARALLAX: f32 = 1.0 - 1e-6;
+
+/// Replaces `depths` (window depth, `[-1,1]` convention, rows bottom-up, of `rect` of the
+/// centre view `view`'s scene target) where the record holds a parallax. Returns how many.
+pub fn substitute(
+    gl: &Gl,
+    mv: &mut Multiview,
+    view: u32,
+    rect: [i32; 4],
+    range: DepthRange,
+    depths: &mut [f32],
+) -> usize {
+    let Some(model) = ParallaxModel::new(range, mv.camera.rig.convergence).filter(|m| m.scale != 0.0) else {
+        return 0;
+    };
+    let Some((fbo, _)) = crate::multiview::quilt::record::source(gl, mv, view, rect) else {
+        return 0;
+    };
+    let record = crate::gl::readback::read_rg(gl, mv.info, fbo, rect);
+    if record.len() != depths.len() * 2 {
+        return 0;
+    }
+    let mut n = 0;
+    for (d, r) in depths.iter_mut().zip(record.chunks_exact(2)) {
+        if r[1] > 0.5 {
+            *d = window_depth(model, r[0]);
+            n += 1;
+        }
+    }
+    n
+}
+
+/// The window depth (`[-1,1]` convention) at which the scene's model gives parallax `p`.
+fn window_depth(m: ParallaxModel, p: f32) -> f32 {
+    let far = if m.reversed { 0.0 } else { 1.0 };
+    if !p.is_finite() || p >= INFINITY_PARALLAX {
+        return far;
+    }
+    let z = f64::from(1.0 - p) / f64::from(m.scale) - f64::from(m.a_hi) - f64::from(m.a_lo);
+    ((z + 1.0) / 2.0).clamp(0.0, 1.0) as f32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn range(n: f64, f: f64) -> DepthRange {
+        // A glFrustum's depth terms, as `projection::classify` reads them.
+        DepthRange {
+            a: -(f + n) / (f - n),
+            b: -2.0 * f * n / (f - n),
+        }
+    }
+
+    #[test]
+    fn a_recorded_parallax_comes_back_as_the_depth_of_its_distance() {
+        let r = range(0.1, 100.0);
+        let c = 5.0;
+        let m = ParallaxModel::new(r, c).unwrap();
+        for w in [0.2, 1.0, 5.0, 40.0] {
+            let p = (1.0 - c / w) as f32;
+            let d = window_depth(m, p);
+            let back = r.w_of_ndc(2.0 * f64::from(d) - 1.0);
+            assert!((back - w).abs() / w < 1e-4, "w {w}: came back as {back}");
+        }
+    }
+
+    #[test]
+    fn infinity_is_the_background_and_nothing_is_nearer_than_the_near_plane() {
+        let r = range(0.1, 100.0);
+        let m = ParallaxModel::new(r, 5.0).unwrap();
+        assert_eq!(window_depth(m, 1.0), 1.0);
+        // Beyond the far plane (a sky at 1e6) is the background too.
+        assert_eq!(window_depth(m, (1.0 - 5.0 / 1e6) as f32), 1.0);
+        assert_eq!(window_depth(m, -1e9), 0.0);
+    }
+}
