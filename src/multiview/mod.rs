@@ -200,6 +200,7 @@ impl Multiview {
         o.programs.extend(program);
         o.append(self.synth.shared_objects());
         o.textures.extend(self.record.textures());
+        o.programs.extend(self.record.programs());
         if let Some(m) = &self.measure {
             o.textures.push(m.texture());
         }

@@ -108,74 +108,84 @@ fn an_even_k_converges_from_the_rendered_view_nearest_the_centre() {
     assert!((hybrid / exact - 1.0).abs() < 0.02, "hybrid:2 {hybrid}, exact {exact}");
 }
 
-/// A first-person weapon drawn in `glDepthRange(0, 0.3)` (id Tech 3's hack; `cubes --weapon
-/// hack`: a box 2.2 units before the eye, drawn last) counts at the distance exact mode
-/// shows it at, read from the disparity record: the estimate equals the one with the same
-/// box drawn in the full depth range (measured 6.9731 both). Read from the depth buffer, the
-/// squeezed depth took the box for one nearly ten times nearer and the convergence fell to
-/// 0.762, so that every view but the centre pulled the whole scene far behind the screen.
+/// A first-person weapon drawn in `glDepthRange(0, 0.3)` (id Tech 3's hack; `--weapon hack`:
+/// a box 1.4 to 3 units before the eye, drawn last) counts at the distance exact mode shows
+/// it at, read from the disparity record: the estimate equals the one with the same box drawn
+/// in the full depth range, in a shader program (`cubes`, measured 6.9731 both) and in
+/// fixed-function immediate mode (`legacy`, recorded by drawing it again). Read from the
+/// depth buffer, the squeezed depth took the box for one nearly ten times nearer (`cubes`:
+/// 0.762), so that every view but the centre pulled the whole scene far behind the screen.
 #[test]
 fn a_weapon_in_its_own_depth_range_counts_at_its_real_distance() {
-    let (plain, _, _) = convergence_of("cubes --weapon plain");
-    let (hack, _, line) = convergence_of("cubes --weapon hack");
-    assert!(line.contains("from the disparity record"), "{line}");
-    assert!(
-        (hack / plain - 1.0).abs() < 1e-3,
-        "the weapon in glDepthRange(0, 0.3) converges at {hack}, the same weapon in the full range at {plain}: {line}"
-    );
-    // The control: without the record the depth buffer's squeezed depth is all there is.
-    let (depth_only, _, line) = convergence_under("cubes --weapon hack", &["--disparity-record", "off"]);
-    assert!(!line.contains("disparity record"), "{line}");
-    assert!(
-        depth_only < 0.5 * plain,
-        "without the record the hack's depth should pull the estimate in: {depth_only} against {plain}"
-    );
+    for program in ["cubes", "legacy"] {
+        let (plain, _, _) = convergence_of(&format!("{program} --weapon plain"));
+        let (hack, _, line) = convergence_of(&format!("{program} --weapon hack"));
+        assert!(line.contains("from the disparity record"), "{program}: {line}");
+        assert!(
+            (hack / plain - 1.0).abs() < 1e-3,
+            "{program}: the weapon in glDepthRange(0, 0.3) converges at {hack}, the same weapon in the full range \
+             at {plain}: {line}"
+        );
+        // The control: without the record the depth buffer's squeezed depth is all there is.
+        let spec = format!("{program} --weapon hack");
+        let (depth_only, _, line) = convergence_under(&spec, &["--disparity-record", "off"]);
+        assert!(!line.contains("disparity record"), "{line}");
+        assert!(
+            depth_only < 0.5 * plain,
+            "{program}: without the record the hack's depth should pull the estimate in: {depth_only} against {plain}"
+        );
+    }
 }
 
 /// `--dump-disparity` of the same weapon: in `glDepthRange(0, 0.3)` and in the full range,
-/// the same image (the record's disparity, what exact gives the box), in every view; from
-/// the depth buffer alone (`--disparity-record off`) the squeezed box showed far in front.
-/// Converged at 2.5, the box (1.4 to 3 units away) stays inside the legend's ±16 px.
+/// the same image (the record's disparity, what exact gives the box), in every view, from a
+/// shader program and from fixed function; from the depth buffer alone
+/// (`--disparity-record off`) the squeezed box showed far in front. Converged at 2.5, the
+/// box stays inside the legend's ±16 px.
 #[test]
 fn the_disparity_dump_shows_a_weapon_in_its_own_depth_range_where_exact_does() {
-    let dump = |weapon: &str, record: &str| {
-        let dir = temp_dir(&format!("weapon_dump_{weapon}_{record}"));
-        let mut options = vec![
-            "--output",
-            "quilt",
-            "--quilt",
-            "3x3",
-            "--convergence",
-            "2.5",
-            "--dump-disparity",
-            "--disparity-record",
-            record,
-        ];
-        options.extend(dump_and_exit_at(&dir, "3"));
-        let args = [
-            "--backend",
-            "egl",
-            "--size",
-            "320x240",
-            "--frames",
-            "3",
-            "--weapon",
-            weapon,
-        ];
-        let out = under_layer(&options, app("cubes"), &args, &[]);
-        assert_success(&out, &format!("cubes --weapon {weapon}"));
-        read_png(&dir.join("f000003_disparity_qs3x3a1.3333.png"))
-    };
-    let plain = dump("plain", "on");
-    let share = |other: &Image| pixels_off(&plain, other, 2) as f64 / f64::from(plain.width * plain.height);
-    let hack = share(&dump("hack", "on"));
-    let depth_only = share(&dump("hack", "off"));
-    eprintln!(
-        "disparity dumps against the plain weapon's: {:.3} % of pixels differ with the record, {:.3} % from depth alone",
-        100.0 * hack,
-        100.0 * depth_only
-    );
-    assert!(hack < 0.001, "{:.3} % of the dump differs", 100.0 * hack);
-    // The box covers 7.6 % of the quilt (measured): all of it differs from depth alone.
-    assert!(depth_only > 0.02, "the control: {:.3} %", 100.0 * depth_only);
+    for program in ["cubes", "legacy"] {
+        let dump = |weapon: &str, record: &str| {
+            let dir = temp_dir(&format!("weapon_dump_{program}_{weapon}_{record}"));
+            let mut options = vec![
+                "--output",
+                "quilt",
+                "--quilt",
+                "3x3",
+                "--convergence",
+                "2.5",
+                "--dump-disparity",
+                "--disparity-record",
+                record,
+            ];
+            options.extend(dump_and_exit_at(&dir, "3"));
+            let args = [
+                "--backend",
+                "egl",
+                "--size",
+                "320x240",
+                "--frames",
+                "3",
+                "--weapon",
+                weapon,
+            ];
+            let out = under_layer(&options, app(program), &args, &[]);
+            assert_success(&out, &format!("{program} --weapon {weapon}"));
+            assert_no_gl_error(&out);
+            read_png(&dir.join("f000003_disparity_qs3x3a1.3333.png"))
+        };
+        let plain = dump("plain", "on");
+        let share = |other: &Image| pixels_off(&plain, other, 2) as f64 / f64::from(plain.width * plain.height);
+        let hack = share(&dump("hack", "on"));
+        let depth_only = share(&dump("hack", "off"));
+        eprintln!(
+            "{program}: disparity dumps against the plain weapon's: {:.3} % of pixels differ with the record, \
+             {:.3} % from depth alone",
+            100.0 * hack,
+            100.0 * depth_only
+        );
+        assert!(hack < 0.001, "{program}: {:.3} % of the dump differs", 100.0 * hack);
+        // The box covers 7.6 % of the quilt: from depth alone most of it differs.
+        assert!(depth_only > 0.02, "{program}: the control: {:.3} %", 100.0 * depth_only);
+    }
 }

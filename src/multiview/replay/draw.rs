@@ -97,6 +97,18 @@ fn replay(
         None
     };
     let blending = records.is_some() && app.enabled(gl, BLEND);
+    // A fixed-function draw is recorded by drawing it again (`record_fixed`).
+    let fixed = match (&shift, records) {
+        (Shift::Projection { infinity, .. }, Some(_)) => {
+            let c = if *infinity {
+                0.0
+            } else {
+                mv.camera.rig.convergence as f32
+            };
+            super::record_fixed::plan(gl, mv.info, app, &mut mv.record.fixed, c)
+        }
+        _ => None,
+    };
     let app: &AppState = app;
     let identity = matches!(shift, Shift::Uniform { camera: false, .. });
     screen_space::camera_uniforms(app, mv, identity, &mut scratch.camera_uniforms);
@@ -127,7 +139,14 @@ fn replay(
                 super::record::tile(gl, img, views, i);
             }
         };
-        draw_tiles(gl, app, mv, layout, scissored, set_tile, f);
+        let fixed = fixed.zip(recorded.map(|r| r.1));
+        let draw_and_record = |i: u32| {
+            f(i);
+            if let Some((fx, _)) = fixed.filter(|(_, v)| v.includes(i)) {
+                fx.redraw(gl, || f(i));
+            }
+        };
+        draw_tiles(gl, app, mv, layout, scissored, set_tile, &draw_and_record);
         if recorded.is_some() {
             mv.record.after_draw(gl);
             DisparityRecord::release_bound(gl);
@@ -151,6 +170,9 @@ fn replay(
             }
             set_view(mv, i as u32);
             f(i as u32);
+            if let Some(fx) = fixed.filter(|_| recording.is_some()) {
+                fx.redraw(gl, || f(i as u32));
+            }
             if recording.is_some() {
                 DisparityRecord::release_bound(gl);
             }

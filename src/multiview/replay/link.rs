@@ -72,8 +72,12 @@ fn last_position_stage(gl: &Gl, shaders: &[u32]) -> Option<(u32, Stage)> {
 /// Links `program` (through `link`, the real glLinkProgram) with the view shift injected, and
 /// with the disparity record (`shader::record`) when the fast modes read it; a link that
 /// fails with the record is tried again without it, then with the app's own sources.
-pub fn link_program(gl: &Gl, group: &ShareGroup, program: u32, link: impl Fn()) {
+pub fn link_program(gl: &Gl, info: crate::gl::GlInfo, group: &ShareGroup, program: u32, link: impl Fn()) {
+    // Not on ES (the record is desktop GLSL; and Mesa's ES linker crashed on the relinks the
+    // attempt makes for shaders shared between programs: glmark2-es2's desktop scene).
     let record = crate::config::settings().records_disparity()
+        && !info.es
+        && info.at_least(4, 5)
         && gl.BlendFunci.is_loaded()
         && gl.BindFragDataLocation.is_loaded();
     if record && link_with(gl, group, program, &link, true) {

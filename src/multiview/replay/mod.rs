@@ -17,6 +17,7 @@ pub mod immediate;
 pub mod link;
 pub mod raster;
 pub mod record;
+pub mod record_fixed;
 pub mod screen_space;
 pub mod shift;
 pub mod transfers;

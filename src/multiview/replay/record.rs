@@ -95,10 +95,11 @@ pub fn shadow(gl: &Gl, app: &AppState, mv: &mut Multiview, blending: bool) -> Op
     let fits = held
         || s.attached.iter().all(|a| {
             a.point != COLOR_ATTACHMENT0 + RECORD_BUFFER && {
-                let mut target = 0;
-                // SAFETY: a parameter query on our own array.
-                unsafe { gl.GetTextureParameteriv(a.array, TEXTURE_TARGET, &mut target) };
-                target as GLenum != TEXTURE_2D_MULTISAMPLE_ARRAY
+                // (Not `TEXTURE_TARGET`: Mesa 22 refuses it to glGetTextureParameteriv.)
+                let mut samples = 0;
+                // SAFETY: a level parameter query on our own array.
+                unsafe { gl.GetTextureLevelParameteriv(a.array, 0, TEXTURE_SAMPLES, &mut samples) };
+                samples == 0
             }
         });
     if !fits {

@@ -26,3 +26,4 @@ pub mod quilt;
 pub mod run;
 pub mod scene;
 pub mod shader;
+pub mod weapon;

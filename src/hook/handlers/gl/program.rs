@@ -8,8 +8,8 @@ pub(crate) fn glLinkProgram(real: impl Fn(GLuint), program: GLuint) {
     }
     let done = crate::state::with_current(|cur| {
         let cur = cur?;
-        let (gl, _) = cur.ctx.gl()?;
-        crate::multiview::replay::link::link_program(gl, &cur.ctx.group, program, || real(program));
+        let (gl, info) = cur.ctx.gl()?;
+        crate::multiview::replay::link::link_program(gl, *info, &cur.ctx.group, program, || real(program));
         Some(())
     });
     if done.is_none() {

@@ -17,11 +17,13 @@ fn per_view_raster(advance: (f32, f32), f: impl Fn(Option<[i32; 4]>)) {
         }
         let Some(layout) = mv.layout() else { return false };
         let saved = raster::save(gl);
-        draw::draw_views(gl, app, mv, &cur.ctx.group, |i| {
-            if i != draw::SINGLE {
-                raster::place(gl, &saved, &layout, i);
-            }
-            f((i != draw::SINGLE).then(|| layout.tile_rect(i)))
+        crate::multiview::replay::record_fixed::unrepeatable(|| {
+            draw::draw_views(gl, app, mv, &cur.ctx.group, |i| {
+                if i != draw::SINGLE {
+                    raster::place(gl, &saved, &layout, i);
+                }
+                f((i != draw::SINGLE).then(|| layout.tile_rect(i)))
+            })
         });
         raster::finish(gl, &saved, advance);
         true

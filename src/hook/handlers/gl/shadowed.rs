@@ -64,7 +64,7 @@ pub(crate) fn matrix_changed(mode: Option<GLenum>) {
 
 /// Display lists may hold any of the calls above.
 pub(crate) fn glCallList(real: impl Fn(GLuint), list: GLuint) {
-    super::per_view(|| real(list));
+    crate::multiview::replay::record_fixed::unrepeatable(|| super::per_view(|| real(list)));
     if shadowing() {
         crate::state::with_app(|app| app.list_called(Some(list)));
     }
@@ -77,7 +77,7 @@ pub(crate) fn glCallLists(
     ty: GLenum,
     lists: *const core::ffi::c_void,
 ) {
-    super::per_view(|| real(n, ty, lists));
+    crate::multiview::replay::record_fixed::unrepeatable(|| super::per_view(|| real(n, ty, lists)));
     if shadowing() {
         crate::state::with_app(|app| app.list_called(None));
     }

@@ -5,6 +5,7 @@ use holoapps::math::{self, Mat4};
 use holoapps::platform::Profile;
 use holoapps::scene::{Scene, View, seconds};
 use holoapps::shader;
+use holoapps::weapon::{self, Weapon};
 use std::process::ExitCode;
 
 const EYE: [f32; 3] = [0.0, 9.0, 17.0];
@@ -46,16 +47,7 @@ struct Cubes {
     /// speed factor (`--spin`).
     orbit: f32,
     spin: f32,
-    /// A first-person "weapon" (`--weapon`): a box held before the eye, drawn last in eye
-    /// space; with `hack`, inside `glDepthRange(0, 0.3)` as id Tech 3 draws its weapon.
     weapon: Weapon,
-}
-
-#[derive(Clone, Copy, PartialEq)]
-enum Weapon {
-    None,
-    Plain,
-    Hack,
 }
 
 impl Cubes {
@@ -150,12 +142,14 @@ impl Scene for Cubes {
         }
         if self.weapon != Weapon::None {
             let identity = math::scale(1.0, 1.0, 1.0);
-            let held = math::mul(&math::translate(0.9, -0.7, -2.2), &math::scale(0.5, 0.4, 1.6));
+            let [x, y, z] = weapon::CENTRE;
+            let [a, b, c] = weapon::HALF;
+            // The cube's vertices span [-0.5, 0.5].
+            let held = math::mul(&math::translate(x, y, z), &math::scale(2.0 * a, 2.0 * b, 2.0 * c));
+            let (near, far) = weapon::depth_range(self.weapon);
             unsafe {
                 gl.UniformMatrix4fv(self.loc[1], 1, gl::FALSE, identity.as_ptr());
-                if self.weapon == Weapon::Hack {
-                    gl.DepthRange(0.0, 0.3);
-                }
+                gl.DepthRange(near, far);
             }
             self.draw(gl, &held, [0.8, 0.75, 0.7]);
             unsafe { gl.DepthRange(0.0, 1.0) };
@@ -182,11 +176,7 @@ fn main() -> ExitCode {
                 "degrees per frame the camera orbits the centre (a moving camera)",
             ),
             ("spin", "1", "cube spin speed factor (0: still cubes)"),
-            (
-                "weapon",
-                "none",
-                "none | plain | hack: a box held before the eye, drawn last (hack: in glDepthRange(0, 0.3))",
-            ),
+            weapon::OPTION,
         ],
         switches: &[],
     };
@@ -211,12 +201,7 @@ fn main() -> ExitCode {
             };
             c.orbit = number("orbit")?;
             c.spin = number("spin")?;
-            c.weapon = match o.extra["weapon"].as_str() {
-                "none" => Weapon::None,
-                "plain" => Weapon::Plain,
-                "hack" => Weapon::Hack,
-                w => return Err(format!("--weapon: expected none|plain|hack, got '{w}'")),
-            };
+            c.weapon = weapon::parse(&o.extra["weapon"])?;
             c.reversed = match o.extra["depth"].as_str() {
                 "standard" => false,
                 "reversed" => true,

@@ -9,6 +9,7 @@ use holoapps::gl::{self, Gl};
 use holoapps::legacy_extras::{self, Extras};
 use holoapps::platform::Profile;
 use holoapps::scene::{Scene, View, seconds};
+use holoapps::weapon::{self, Weapon};
 use std::process::ExitCode;
 
 /// Camera 5 up and 12 back, pitched down to look at the origin (13 away).
@@ -21,6 +22,7 @@ struct Legacy {
     cluster: u32,
     extras: Extras,
     sky: bool,
+    weapon: Weapon,
 }
 
 unsafe fn pyramid(gl: &Gl) {
@@ -68,6 +70,7 @@ impl Legacy {
                 cluster: base + 1,
                 extras: Extras::new(gl),
                 sky,
+                weapon: Weapon::None,
             })
         }
     }
@@ -147,6 +150,41 @@ impl Legacy {
             }
             gl.End();
             gl.DepthMask(gl::TRUE);
+        }
+    }
+
+    /// `--weapon`: the box before the eye, in immediate mode under the scene's projection.
+    unsafe fn weapon(gl: &Gl, w: Weapon) {
+        let (near, far) = weapon::depth_range(w);
+        let (c, h) = (weapon::CENTRE, weapon::HALF);
+        unsafe {
+            gl.MatrixMode(gl::MODELVIEW);
+            gl.PushMatrix();
+            gl.LoadIdentity();
+            gl.Translatef(c[0], c[1], c[2]);
+            gl.Scalef(h[0], h[1], h[2]);
+            gl.Disable(gl::FOG);
+            gl.Color3f(0.8, 0.75, 0.7);
+            gl.DepthRange(near, far);
+            gl.Begin(gl::QUADS);
+            for axis in 0..3 {
+                for sign in [-1.0f32, 1.0] {
+                    let mut n = [0.0f32; 3];
+                    n[axis] = sign;
+                    let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+                    gl.Normal3f(n[0], n[1], n[2]);
+                    for (a, b) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+                        let mut p = n;
+                        p[u] = a;
+                        p[v] = b * sign;
+                        gl.Vertex3f(p[0], p[1], p[2]);
+                    }
+                }
+            }
+            gl.End();
+            gl.DepthRange(0.0, 1.0);
+            gl.Enable(gl::FOG);
+            gl.PopMatrix();
         }
     }
 
@@ -251,6 +289,9 @@ impl Scene for Legacy {
             pyramid(gl);
             gl.PopMatrix();
             self.extras.ring(gl, t, pick.1);
+            if self.weapon != Weapon::None {
+                Self::weapon(gl, self.weapon);
+            }
             Self::hud(gl, v, t, pick);
         }
     }
@@ -261,7 +302,7 @@ fn main() -> ExitCode {
         name: "legacy",
         about: "OpenGL 1.x fixed-function scene: immediate mode, display lists, fog, lighting, glOrtho HUD",
         default_convergence: (EYE_Y * EYE_Y + EYE_Z * EYE_Z).sqrt(),
-        extra: &[],
+        extra: &[weapon::OPTION],
         switches: &[(
             "sky",
             "a sky box drawn around the eye before the scene, depth writes off",
@@ -270,6 +311,10 @@ fn main() -> ExitCode {
     holoapps::run::main(
         &info,
         Profile::Legacy,
-        Box::new(|gl: &Gl, o: &Options| Ok(Box::new(Legacy::new(gl, o.switches.contains("sky"))?) as Box<dyn Scene>)),
+        Box::new(|gl: &Gl, o: &Options| {
+            let mut app = Legacy::new(gl, o.switches.contains("sky"))?;
+            app.weapon = weapon::parse(&o.extra["weapon"])?;
+            Ok(Box::new(app) as Box<dyn Scene>)
+        }),
     )
 }

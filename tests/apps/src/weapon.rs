@@ -1,0 +1,36 @@
+//! `--weapon none|plain|hack` (cubes, legacy): a first-person "weapon", a box held before the
+//! eye and drawn last in eye space; `hack` draws it inside `glDepthRange(0, 0.3)`, as id
+//! Tech 3 games draw theirs so that it never pokes into a wall. Exact mode shifts it by its
+//! real distance; only a disparity read back from depth takes it for a nearer one.
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Weapon {
+    None,
+    Plain,
+    Hack,
+}
+
+/// The option's entry for `AppInfo::extra`.
+pub const OPTION: (&str, &str, &str) = (
+    "weapon",
+    "none",
+    "none | plain | hack: a box held before the eye, drawn last (hack: in glDepthRange(0, 0.3))",
+);
+
+pub fn parse(value: &str) -> Result<Weapon, String> {
+    match value {
+        "none" => Ok(Weapon::None),
+        "plain" => Ok(Weapon::Plain),
+        "hack" => Ok(Weapon::Hack),
+        w => Err(format!("--weapon: expected none|plain|hack, got '{w}'")),
+    }
+}
+
+/// Where the box is held, in eye space: centre and half extents (1.4 to 3 units away).
+pub const CENTRE: [f32; 3] = [0.9, -0.7, -2.2];
+pub const HALF: [f32; 3] = [0.25, 0.2, 0.8];
+
+/// The depth range to draw it in.
+pub fn depth_range(w: Weapon) -> (f64, f64) {
+    if w == Weapon::Hack { (0.0, 0.3) } else { (0.0, 1.0) }
+}
