@@ -116,6 +116,8 @@ pub struct Multiview {
     pub record: crate::multiview::quilt::record::DisparityRecord,
     /// Per-buffer blending and DSA are there: the record can be written.
     pub record_supported: bool,
+    /// The program fixed-function draws are recorded with (`replay::record_fixed`).
+    pub record_fixed: replay::record_fixed::FixedProgram,
 }
 
 impl Multiview {
@@ -160,6 +162,7 @@ impl Multiview {
             reuse,
             record: Default::default(),
             record_supported: !info.es && info.at_least(4, 5),
+            record_fixed: Default::default(),
         }
     }
 
@@ -200,7 +203,7 @@ impl Multiview {
         o.programs.extend(program);
         o.append(self.synth.shared_objects());
         o.textures.extend(self.record.textures());
-        o.programs.extend(self.record.programs());
+        o.programs.extend(self.record_fixed.program());
         if let Some(m) = &self.measure {
             o.textures.push(m.texture());
         }

@@ -44,8 +44,6 @@ pub struct DisparityRecord {
     read: Vec<(u32, RecordImage, i32)>,
     /// Buffer 7's blend state was changed for the current draw.
     blend_changed: bool,
-    /// The program fixed-function draws are recorded with (`replay::record_fixed`).
-    pub fixed: crate::multiview::replay::record_fixed::FixedProgram,
 }
 
 fn image(gl: &Gl, size: (i32, i32), layers: i32) -> RecordImage {
@@ -260,10 +258,6 @@ impl DisparityRecord {
             // SAFETY: our own texture.
             unsafe { gl.ClearTexImage(img.texture, 0, RG, FLOAT, zero.as_ptr().cast()) };
         }
-    }
-
-    pub fn programs(&self) -> Option<u32> {
-        self.fixed.program()
     }
 
     pub fn textures(&self) -> Vec<u32> {

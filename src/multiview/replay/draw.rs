@@ -105,7 +105,7 @@ fn replay(
             } else {
                 mv.camera.rig.convergence as f32
             };
-            super::record_fixed::plan(gl, mv.info, app, &mut mv.record.fixed, c)
+            super::record_fixed::plan(gl, mv.info, app, &mut mv.record_fixed, c)
         }
         _ => None,
     };
