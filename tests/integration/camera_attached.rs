@@ -84,11 +84,12 @@ fn a_sky_box_around_the_eye_moves_as_infinity() {
 }
 
 /// `--dump-disparity` shows what the fast modes and the comfort pass take each pixel's
-/// disparity to be: the sky, drawn without depth writes, at the far clear (`0.1 × 160 ×
-/// (1 − 13/100)` = 13.9 px behind, the colour `[42, 68, 164]`), the near floor in front of
-/// the screen (red), in every view.
+/// disparity to be: the sky, drawn around the eye without depth writes, at infinity, as exact
+/// shows it (the disparity record: `0.1 × 160` = 16 px behind, the legend's end, `[10, 40,
+/// 150]`; from depth alone it was the far clear's 13.9 px), the near floor in front of the
+/// screen (red), in every view.
 #[test]
-fn the_disparity_dump_puts_the_sky_at_the_far_clear_and_the_near_floor_in_front() {
+fn the_disparity_dump_puts_the_sky_at_infinity_and_the_near_floor_in_front() {
     let dir = temp_dir("sky_disparity_dump");
     let dump = dir.join("dump");
     let mut options = vec![
@@ -115,8 +116,8 @@ fn the_disparity_dump_puts_the_sky_at_the_far_clear_and_the_near_floor_in_front(
         let sky = img.pixel(x0 + 250, y0 + 10).unwrap();
         assert_eq!(
             sky,
-            [42, 68, 164],
-            "view {view}: the sky is not at the far clear in the dump"
+            [10, 40, 150],
+            "view {view}: the sky is not at infinity in the dump"
         );
         let floor = img.pixel(x0 + 160, y0 + 235).unwrap();
         assert!(
@@ -124,4 +125,31 @@ fn the_disparity_dump_puts_the_sky_at_the_far_clear_and_the_near_floor_in_front(
             "view {view}: the near floor is not in front ({floor:?})"
         );
     }
+}
+
+/// The same sky in `--mode synth`, whose outer views are warped from the centre view: the sky
+/// writes no depth, so the depth buffer says only "far clear", which the warps take for the
+/// far plane (100 here: 13.9 px, not 16). The disparity record says infinity: the sky box is
+/// drawn again into the record under its own depth state (fixed function has no fragment
+/// output to add), and the warp moves it as exact does, to the pixel.
+#[test]
+fn a_sky_box_around_the_eye_moves_as_infinity_in_synth() {
+    let dir = temp_dir("sky_at_infinity_synth");
+    let infinity = (DEPTHINESS * f64::from(TILE.0) / 2.0).round() as i32;
+    let exact = sky_shifts(&injected(&dir.join("exact"), &[]));
+    assert_eq!(exact, [-infinity, infinity], "exact: the sky moves {exact:?} px");
+    let synth = sky_shifts(&injected(&dir.join("synth"), &["--mode", "synth"]));
+    assert_eq!(
+        synth, exact,
+        "synth moves the sky {synth:?} px, exact {exact:?}: the viewer sees it at another depth in the outer views"
+    );
+    // The control: from depth alone the sky is at the far plane.
+    let depth = sky_shifts(&injected(
+        &dir.join("depth"),
+        &["--mode", "synth", "--disparity-record", "off"],
+    ));
+    assert_ne!(
+        depth, exact,
+        "--disparity-record off: the sky still moves as infinity ({depth:?} px)"
+    );
 }

@@ -146,7 +146,12 @@ fn replay(
                 fx.redraw(gl, || f(i));
             }
         };
-        draw_tiles(gl, app, mv, layout, scissored, set_tile, &draw_and_record);
+        // A view that records alone is drawn last, so that its draw buffer is added once.
+        let last = match recorded {
+            Some((_, super::record::Views::Only(v))) => Some(v),
+            _ => None,
+        };
+        draw_tiles(gl, app, mv, (layout, last), scissored, set_tile, &draw_and_record);
         if recorded.is_some() {
             mv.record.after_draw(gl);
             DisparityRecord::release_bound(gl);
@@ -360,14 +365,15 @@ fn draw_tiles(
     gl: &Gl,
     app: &AppState,
     mv: &Multiview,
-    layout: QuiltLayout,
+    (layout, last): (QuiltLayout, Option<u32>),
     scissored: bool,
     set_view: impl Fn(&Multiview, u32),
     f: &impl Fn(u32),
 ) {
     // SAFETY: viewport and scissor changes below are restored after the loop.
     unsafe { gl.Enable(SCISSOR_TEST) };
-    for i in (0..layout.views()).filter(|&i| mv.plan.draws(i)) {
+    let views = (0..layout.views()).filter(|&i| Some(i) != last).chain(last);
+    for i in views.filter(|&i| mv.plan.draws(i)) {
         let vp = layout.map_rect(i, app.viewport);
         let tile = layout.tile_rect(i);
         let sc = if scissored {

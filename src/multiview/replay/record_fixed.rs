@@ -4,11 +4,14 @@
 //! into a view that records, it is drawn once more with a program of ours
 //! (`record_fixed.vert`/`.frag`: `ftransform()`, invariant with the fixed function) that
 //! writes the record's draw buffer alone, depth-tested `EQUAL` without writing depth: every
-//! pixel the draw left visible gets the parallax its sheared projection gave it. Only draws
-//! that write depth are recorded so (a draw that writes none left no depth to match; a
-//! translucent one leaves the record of what is behind it), and only draws whose replay has
-//! no side effects: vertex arrays and the layer's own immediate-mode lists, not the app's
-//! display lists, which may change state or matrices as they run.
+//! pixel the draw left visible gets the parallax its sheared projection gave it. Draws that
+//! write no depth left none to match: those attached to the camera (a sky around the eye,
+//! drawn first with depth writes or the depth test off, as fixed-function games draw theirs)
+//! are drawn again under their own depth state instead, which passes where it passed (they
+//! changed no depth), and record infinity; the others (a translucent draw) leave the record of
+//! what is behind them. Only draws whose replay has no side effects are recorded: vertex
+//! arrays and the layer's own immediate-mode lists, not the app's display lists, which may
+//! change state or matrices as they run.
 //!
 //! The alpha and stencil tests are off for the second draw (the depth already says which
 //! pixels passed them; a stencil operation must not run twice), and everything it changes is
@@ -72,13 +75,15 @@ pub struct FixedRecord {
     program: u32,
     c_loc: i32,
     c: f32,
+    /// Tested `EQUAL` against the depth the draw wrote (else under its own depth state).
+    equal: bool,
     depth_func: GLenum,
     alpha_test: bool,
     stencil_test: bool,
 }
 
 /// Whether this fixed-function draw (into a recording target) can be recorded, and how:
-/// `c` is its convergence (0 for a draw attached to the camera).
+/// `c` is its convergence (0 for a draw attached to the camera, at infinity).
 pub fn plan(
     gl: &Gl,
     info: GlInfo,
@@ -86,10 +91,11 @@ pub fn plan(
     program: &mut FixedProgram,
     c: f32,
 ) -> Option<FixedRecord> {
-    if UNREPEATABLE.with(Cell::get) || app.transform_feedback || !app.enabled(gl, DEPTH_TEST) {
+    if UNREPEATABLE.with(Cell::get) || app.transform_feedback {
         return None;
     }
-    if get_i(gl, DEPTH_WRITEMASK) == 0 {
+    let equal = app.enabled(gl, DEPTH_TEST) && get_i(gl, DEPTH_WRITEMASK) != 0;
+    if !equal && c != 0.0 {
         return None;
     }
     let (program, c_loc) = program.get(gl, info)?;
@@ -97,7 +103,8 @@ pub fn plan(
         program,
         c_loc,
         c,
-        depth_func: get_i(gl, DEPTH_FUNC) as GLenum,
+        equal,
+        depth_func: if equal { get_i(gl, DEPTH_FUNC) as GLenum } else { LESS },
         alpha_test: app.enabled(gl, ALPHA_TEST),
         stencil_test: app.enabled(gl, STENCIL_TEST),
     })
@@ -120,8 +127,10 @@ impl FixedRecord {
         // SAFETY: state of the current context, each put back below; our linked program.
         unsafe {
             gl.DrawBuffers(only.len() as i32, only.as_ptr());
-            gl.DepthMask(FALSE);
-            gl.DepthFunc(EQUAL);
+            if self.equal {
+                gl.DepthMask(FALSE);
+                gl.DepthFunc(EQUAL);
+            }
             if self.alpha_test {
                 gl.Disable(ALPHA_TEST);
             }
@@ -143,8 +152,10 @@ impl FixedRecord {
             if self.alpha_test {
                 gl.Enable(ALPHA_TEST);
             }
-            gl.DepthFunc(self.depth_func);
-            gl.DepthMask(TRUE);
+            if self.equal {
+                gl.DepthFunc(self.depth_func);
+                gl.DepthMask(TRUE);
+            }
             gl.DrawBuffers(bufs.len() as i32, bufs.as_ptr());
         }
     }
