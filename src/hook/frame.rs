@@ -91,6 +91,10 @@ fn multiview_frame(
             layer.live_generation = generation;
         }
         let (mv, presenter) = (&mut layer.views, &mut layer.presenter);
+        // Our passes write the quilt from here on: never into the disparity record.
+        if mv.record.quilt.is_some() {
+            crate::multiview::quilt::record::DisparityRecord::release_quilt(gl, mv.quilt_fbo());
+        }
         crate::multiview::fast::synthesis::end_frame(gl, mv, frame);
         if let Some(t) = &mv.target {
             // As the window resolves at its swap.
@@ -119,7 +123,8 @@ fn multiview_frame(
         }
         crate::multiview::update_convergence(gl, app, mv);
         // After the comfort pass (in `present_frame`), the last reader of this frame's record.
-        mv.record.clear(gl);
+        let layout = mv.layout();
+        mv.record.clear(gl, layout);
         crate::multiview::replay::framebuffer::ensure_target(gl, app, mv, window);
         observe(&mv.camera.rig, mv.settings.output);
         super::census::log_if_due(frame, layer);

@@ -12,10 +12,13 @@
 //! so "what the viewer sees" decides: the nearest opaque surface through the depth test, a
 //! translucent one where it covers at least half.
 //!
-//! The textures and framebuffers are ours; the draw-buffer list of our quilt and view
-//! framebuffers gains `RECORD_BUFFER` for each recorded draw only (so clears, blits and
-//! every other draw into them never reach the record), and buffer 7's blend state is put back
-//! to buffer 0's (the app's) after it. A draw into the target that is not seen through the
+//! The textures and framebuffers are ours. The draw-buffer list of our view framebuffers
+//! gains `RECORD_BUFFER` for each recorded draw only; the quilt's keeps it from a recorded draw
+//! until something else writes the quilt (an unrecorded draw, a clear, a blit, the warp, the
+//! frame's end: `release_bound`), because a change of draw buffers costs a software
+//! rasteriser a flush, and per tile the record's write mask says which views record. So
+//! clears, blits and every other draw never reach the record, and buffer 7's blend state and
+//! mask are put back to buffer 0's (the app's) after each recorded draw. A draw into the target that is not seen through the
 //! camera (a HUD, a full-screen pass) is not recorded at all: the scene's record stays.
 //! The record is cleared to "not recorded" after the frame is presented (the comfort pass is
 //! its last reader).
@@ -44,6 +47,17 @@ pub struct DisparityRecord {
     read: Vec<(u32, RecordImage, i32)>,
     /// Buffer 7's blend state was changed for the current draw.
     blend_changed: bool,
+    /// What this frame wrote of the quilt's record and of the shadow's.
+    dirty: (Dirty, Dirty),
+}
+
+/// What a frame wrote of a record.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+enum Dirty {
+    #[default]
+    Clean,
+    View(u32),
+    All,
 }
 
 fn image(gl: &Gl, size: (i32, i32), layers: i32) -> RecordImage {
@@ -169,6 +183,34 @@ impl DisparityRecord {
         }
     }
 
+    /// The record's write mask: `on` when the app's colour writes are on and this view
+    /// records (a colour-masked pass, a stencil shadow volume, leaves no record).
+    pub fn mask(gl: &Gl, on: bool) {
+        let b = if on { TRUE } else { FALSE };
+        // SAFETY: the write mask of the record's draw buffer alone.
+        unsafe { gl.ColorMaski(RECORD_BUFFER, b, b, b, b) };
+    }
+
+    /// The app's colour write mask (buffer 0's red), which the record follows.
+    pub fn app_writes_colour(gl: &Gl) -> bool {
+        let mut m = [0u8; 4];
+        // SAFETY: a four-boolean query into a local.
+        unsafe { gl.GetBooleanv(COLOR_WRITEMASK, m.as_mut_ptr()) };
+        m[0] != 0
+    }
+
+    /// `release_bound` on the quilt's framebuffer `fbo`, whatever is bound: before our own
+    /// passes write the quilt (the warp, the frame's end).
+    pub fn release_quilt(gl: &Gl, fbo: Option<u32>) {
+        let Some(fbo) = fbo else { return };
+        let bound = get_i(gl, DRAW_FRAMEBUFFER_BINDING) as u32;
+        // SAFETY: our framebuffer bound for the query and put back.
+        unsafe { gl.BindFramebuffer(DRAW_FRAMEBUFFER, fbo) };
+        Self::release_bound(gl);
+        // SAFETY: as above.
+        unsafe { gl.BindFramebuffer(DRAW_FRAMEBUFFER, bound) };
+    }
+
     /// Before a draw into a recording target: the record's blend for what this draw writes
     /// there (`records`: its fragment shader writes the record; `blending`: the app blends).
     pub fn before_draw(&mut self, gl: &Gl, records: bool, blending: bool) {
@@ -251,12 +293,43 @@ impl DisparityRecord {
         *fbo
     }
 
-    /// Every record back to "not recorded", for the next frame.
-    pub fn clear(&self, gl: &Gl) {
+    /// A recorded draw into the quilt (`shadow`: into the shadow) wrote view `only`, or every
+    /// view: what the frame's clear must reach.
+    pub fn mark(&mut self, shadow: bool, only: Option<u32>) {
+        let d = if shadow { &mut self.dirty.1 } else { &mut self.dirty.0 };
+        *d = match (*d, only) {
+            (Dirty::Clean, Some(v)) => Dirty::View(v),
+            (Dirty::View(w), Some(v)) if w == v => Dirty::View(v),
+            _ => Dirty::All,
+        };
+    }
+
+    /// Every record back to "not recorded", for the next frame: only what the frame wrote
+    /// (exact mode records one view; a quilt-sized clear is most of what it would cost).
+    pub fn clear(&mut self, gl: &Gl, layout: Option<super::layout::QuiltLayout>) {
         let zero = [0f32; 2];
-        for img in self.quilt.iter().chain(self.shadow.iter().map(|(_, r)| r)) {
-            // SAFETY: our own texture.
-            unsafe { gl.ClearTexImage(img.texture, 0, RG, FLOAT, zero.as_ptr().cast()) };
+        let (quilt, shadow) = std::mem::take(&mut self.dirty);
+        let images = [(self.quilt, quilt), (self.shadow.map(|(_, r)| r), shadow)];
+        for (img, dirty) in images {
+            let Some(img) = img else { continue };
+            let ptr = zero.as_ptr().cast();
+            // SAFETY: our own texture, a region inside it.
+            unsafe {
+                match (dirty, layout) {
+                    (Dirty::Clean, _) => {}
+                    (Dirty::View(v), Some(l)) if img.layers == 0 => {
+                        let [x, y, w, h] = l.tile_rect(v);
+                        // Stored top-down like the quilt when it is.
+                        let y = if l.flipped { img.size.1 - y - h } else { y };
+                        gl.ClearTexSubImage(img.texture, 0, x, y.max(0), 0, w, h, 1, RG, FLOAT, ptr);
+                    }
+                    (Dirty::View(v), _) if (v as i32) < img.layers => {
+                        let (w, h) = img.size;
+                        gl.ClearTexSubImage(img.texture, 0, 0, 0, v as i32, w, h, 1, RG, FLOAT, ptr);
+                    }
+                    _ => gl.ClearTexImage(img.texture, 0, RG, FLOAT, ptr),
+                }
+            }
         }
     }
 

@@ -71,6 +71,9 @@ fn replay(
     unscale_for_program(gl, app, mv, &mut scratch.subs);
     if app.draw_fbo == 0 && mv.plan.before_default_draw(shift.camera() || !scratch.subs.is_empty()) {
         // The views are complete up to here; what follows (a HUD) is drawn in every view.
+        if mv.record.quilt.is_some() {
+            DisparityRecord::release_bound(gl);
+        }
         crate::multiview::fast::synthesis::warp(gl, mv);
     }
     if mv.scene.tracker.draw(app.draw_fbo, shift.scene(), app.viewport) {
@@ -131,12 +134,21 @@ fn replay(
     };
     if app.draw_fbo == 0 {
         let fragcoord = current_info(app).map_or(-1, |p| p.fragcoord_loc);
-        let recorded = records.and_then(|v| Some((super::record::quilt(gl, app, mv, v, blending)?, v)));
+        let recorded = match records {
+            Some(v) => super::record::quilt(gl, app, mv, v, blending).map(|writes| (writes, v)),
+            // Nothing else may reach the record (`quilt::record`).
+            None => {
+                if mv.record.quilt.is_some() {
+                    DisparityRecord::release_bound(gl);
+                }
+                None
+            }
+        };
         let set_tile = |mv: &Multiview, i| {
             set_view(mv, i);
             set_fragcoord(gl, app.program, fragcoord, Some((layout, i)));
-            if let Some((img, views)) = recorded {
-                super::record::tile(gl, img, views, i);
+            if let Some((writes, views)) = recorded {
+                super::record::tile(gl, views, writes, i);
             }
         };
         let fixed = fixed.zip(recorded.map(|r| r.1));
@@ -146,19 +158,18 @@ fn replay(
                 fx.redraw(gl, || f(i));
             }
         };
-        // A view that records alone is drawn last, so that its draw buffer is added once.
+        // A view that records alone is drawn last: its record's mask is set once.
         let last = match recorded {
             Some((_, super::record::Views::Only(v))) => Some(v),
             _ => None,
         };
         draw_tiles(gl, app, mv, (layout, last), scissored, set_tile, &draw_and_record);
-        if recorded.is_some() {
-            mv.record.after_draw(gl);
-            DisparityRecord::release_bound(gl);
+        if let Some((writes, _)) = recorded {
+            super::record::done(gl, mv, writes);
         }
         set_fragcoord(gl, app.program, fragcoord, None);
     } else if let Some(views) = layers::target_views(gl, mv, app.draw_fbo, shift.camera(), subs) {
-        let record = records.and_then(|v| Some((super::record::shadow(gl, app, mv, blending)?, v)));
+        let record = records.and_then(|v| Some((super::record::shadow(gl, app, mv, v, blending)?, v)));
         let scale = mv.shadows.get(&app.draw_fbo).map_or(LayerScale::ONE, |s| s.scale);
         let fragcoord = current_info(app).map_or(-1, |p| p.fragcoord_loc);
         let scaled = (!scale.is_one()).then(|| scale_pass(gl, app, scale, scissored, fragcoord));

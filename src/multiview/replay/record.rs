@@ -19,6 +19,13 @@ pub enum Views {
     Only(u32),
 }
 
+fn only(views: Views) -> Option<u32> {
+    match views {
+        Views::All => None,
+        Views::Only(v) => Some(v),
+    }
+}
+
 impl Views {
     pub fn includes(self, view: u32) -> bool {
         match self {
@@ -51,42 +58,47 @@ fn program_records(app: &AppState) -> bool {
     app.program != 0 && app.current.program == app.program && app.current.info.as_deref().is_some_and(|p| p.records)
 }
 
-/// A draw into the quilt (framebuffer 0, bound): the quilt's record attached (for every
-/// tile, or per tile by `tile`) and the draw's blend set; the record when it records
-/// (`DisparityRecord::after_draw` then follows the draw).
-pub fn quilt(gl: &Gl, app: &AppState, mv: &mut Multiview, views: Views, blending: bool) -> Option<RecordImage> {
+/// A draw into the quilt (framebuffer 0, bound): the quilt's record attached (it stays until
+/// something else writes the quilt, `quilt::record`), its write mask and the draw's blend set;
+/// whether the app writes colour when it records (`done` then follows the draw).
+pub fn quilt(gl: &Gl, app: &AppState, mv: &mut Multiview, views: Views, blending: bool) -> Option<bool> {
     let size = mv
         .target
         .as_ref()
         .filter(|t| t.samples == 0)
         .map(|t| (t.layout.width() as i32, t.layout.height() as i32))?;
     let img = mv.record.quilt_image(gl, size);
-    if views == Views::All {
-        DisparityRecord::attach_bound(gl, img, 0);
-    }
+    mv.record.mark(false, only(views));
+    DisparityRecord::attach_bound(gl, img, 0);
+    let writes = DisparityRecord::app_writes_colour(gl);
+    DisparityRecord::mask(gl, writes && views == Views::All);
     mv.record.before_draw(gl, program_records(app), blending);
-    Some(img)
+    Some(writes)
 }
 
-/// Before tile `view` of a draw into the quilt that records `views`: the record attached
-/// for the one view that records alone, which is drawn last (a change of draw buffers costs
-/// a software rasteriser a flush: once per draw, not twice per tile).
-pub fn tile(gl: &Gl, img: RecordImage, views: Views, view: u32) {
-    if views != Views::All && views.includes(view) {
-        DisparityRecord::attach_bound(gl, img, 0);
+/// Before tile `view` of a draw into the quilt that records `views` only.
+pub fn tile(gl: &Gl, views: Views, writes: bool, view: u32) {
+    if views != Views::All {
+        DisparityRecord::mask(gl, writes && views.includes(view));
     }
+}
+
+/// After a recorded draw into the quilt: the record's mask and blend back to the app's.
+pub fn done(gl: &Gl, mv: &mut Multiview, writes: bool) {
+    DisparityRecord::mask(gl, writes);
+    mv.record.after_draw(gl);
 }
 
 /// A draw into the shadow of the app's framebuffer: the record beside its layers (attached per
 /// view framebuffer by the caller) with the draw's blend set, when it records.
-pub fn shadow(gl: &Gl, app: &AppState, mv: &mut Multiview, blending: bool) -> Option<RecordImage> {
+pub fn shadow(gl: &Gl, app: &AppState, mv: &mut Multiview, views: Views, blending: bool) -> Option<RecordImage> {
     let fbo = app.draw_fbo;
     let s = mv.shadows.get(&fbo).filter(|s| !s.stale)?;
-    let (size, views) = (s.size, s.views.len() as i32);
+    let (size, layers) = (s.size, s.views.len() as i32);
     let held = mv
         .record
         .shadow
-        .is_some_and(|(f, r)| f == fbo && r.size == size && r.layers == views);
+        .is_some_and(|(f, r)| f == fbo && r.size == size && r.layers == layers);
     // A multisampled shadow cannot take a single-sampled record, and an app's own eighth
     // colour buffer keeps its place.
     let fits = held
@@ -102,7 +114,8 @@ pub fn shadow(gl: &Gl, app: &AppState, mv: &mut Multiview, blending: bool) -> Op
     if !fits {
         return None;
     }
-    let img = mv.record.shadow_image(gl, fbo, size, views);
+    let img = mv.record.shadow_image(gl, fbo, size, layers);
+    mv.record.mark(true, only(views));
     mv.record.before_draw(gl, program_records(app), blending);
     Some(img)
 }

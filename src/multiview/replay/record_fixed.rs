@@ -113,20 +113,19 @@ pub fn plan(
 const POINT: GLenum = COLOR_ATTACHMENT0 + RECORD_BUFFER;
 
 impl FixedRecord {
-    /// After view `f`'s fixed-function draw: `f` again, into the record alone.
+    /// After view `f`'s fixed-function draw: `f` again, into the record alone (by the write
+    /// masks, not the draw buffers, whose change costs a software rasteriser a flush; the
+    /// app's mask is put back on every buffer, as `glColorMask` sets it).
     pub fn redraw(&self, gl: &Gl, f: impl Fn()) {
-        let mut bufs = [NONE; RECORD_BUFFER as usize + 1];
-        for (i, b) in bufs.iter_mut().enumerate() {
-            *b = get_i(gl, DRAW_BUFFER0 + i as u32) as GLenum;
-        }
-        if bufs[RECORD_BUFFER as usize] != POINT {
+        if get_i(gl, DRAW_BUFFER0 + RECORD_BUFFER) as GLenum != POINT {
             return;
         }
-        let mut only = [NONE; RECORD_BUFFER as usize + 1];
-        only[RECORD_BUFFER as usize] = POINT;
+        let mut mask = [0u8; 4];
         // SAFETY: state of the current context, each put back below; our linked program.
         unsafe {
-            gl.DrawBuffers(only.len() as i32, only.as_ptr());
+            gl.GetBooleanv(COLOR_WRITEMASK, mask.as_mut_ptr());
+            gl.ColorMask(FALSE, FALSE, FALSE, FALSE);
+            gl.ColorMaski(RECORD_BUFFER, TRUE, TRUE, TRUE, TRUE);
             if self.equal {
                 gl.DepthMask(FALSE);
                 gl.DepthFunc(EQUAL);
@@ -156,7 +155,7 @@ impl FixedRecord {
                 gl.DepthFunc(self.depth_func);
                 gl.DepthMask(TRUE);
             }
-            gl.DrawBuffers(bufs.len() as i32, bufs.as_ptr());
+            gl.ColorMask(mask[0], mask[1], mask[2], mask[3]);
         }
     }
 }

@@ -46,6 +46,10 @@ pub fn clear(gl: &Gl, app: &mut AppState, mv: &mut Multiview, f: impl Fn()) {
     let Some(layout) = mv.layout().filter(|_| mv.on_default_draw(app)) else {
         return f();
     };
+    // A clear never reaches the disparity record.
+    if mv.record.quilt.is_some() {
+        crate::multiview::quilt::record::DisparityRecord::release_bound(gl);
+    }
     if mv.plan.before_default_draw(false) {
         crate::multiview::fast::synthesis::warp(gl, mv);
     }
@@ -104,6 +108,10 @@ pub fn blit(gl: &Gl, app: &AppState, mv: &mut Multiview, src: [i32; 4], dst: [i3
     let Some(layout) = mv.layout().filter(|_| mv.quilt_fbo().is_some()) else {
         return f(src, dst);
     };
+    if app.draw_fbo == 0 && mv.record.quilt.is_some() {
+        // A blit writes every draw buffer, whatever the masks: never the disparity record.
+        crate::multiview::quilt::record::DisparityRecord::release_bound(gl);
+    }
     let corners = |r: [i32; 4]| [r[0], r[1], r[2] - r[0], r[3] - r[1]];
     let back = |r: [i32; 4]| [r[0], r[1], r[0] + r[2], r[1] + r[3]];
     let (read, draw) = (app.read_fbo, app.draw_fbo);
