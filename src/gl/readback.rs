@@ -267,10 +267,21 @@ impl Resolved {
 
 /// Window depth values (0..1) of `rect` of framebuffer `fbo`, read state restored.
 pub fn read_depth(gl: &Gl, info: GlInfo, fbo: u32, rect: [i32; 4]) -> Vec<f32> {
+    read_floats(gl, info, fbo, rect, (super::DEPTH_COMPONENT, 1))
+}
+
+/// The `RG32F` pairs of `rect` of framebuffer `fbo`'s read buffer (a disparity record), rows
+/// bottom-up; read state restored.
+pub fn read_rg(gl: &Gl, info: GlInfo, fbo: u32, rect: [i32; 4]) -> Vec<f32> {
+    read_floats(gl, info, fbo, rect, (super::RG, 2))
+}
+
+/// `rect` of `fbo` as floats, `format` with `n` components a pixel.
+fn read_floats(gl: &Gl, info: GlInfo, fbo: u32, rect: [i32; 4], (format, n): (GLenum, usize)) -> Vec<f32> {
     use super::*;
-    let mut depth = vec![0f32; rect[2].max(0) as usize * rect[3].max(0) as usize];
+    let mut out = vec![0f32; n * rect[2].max(0) as usize * rect[3].max(0) as usize];
     let guard = PixelStateGuard::save(gl, info);
-    // SAFETY: as in `read_rgba`, with one float per pixel.
+    // SAFETY: as in `read_rgba`, with `n` floats per pixel into a buffer of that size.
     unsafe {
         gl.BindFramebuffer(READ_FRAMEBUFFER, fbo);
         if info.has_pack_buffer() {
@@ -282,30 +293,11 @@ pub fn read_depth(gl: &Gl, info: GlInfo, fbo: u32, rect: [i32; 4]) -> Vec<f32> {
             rect[1],
             rect[2],
             rect[3],
-            DEPTH_COMPONENT,
+            format,
             FLOAT,
-            depth.as_mut_ptr().cast(),
+            out.as_mut_ptr().cast(),
         );
     }
     drop(guard);
-    depth
-}
-
-/// The `RG32F` pairs of `rect` of framebuffer `fbo`'s read buffer (a disparity record), rows
-/// bottom-up; read state restored.
-pub fn read_rg(gl: &Gl, info: GlInfo, fbo: u32, rect: [i32; 4]) -> Vec<f32> {
-    use super::*;
-    let mut rg = vec![0f32; 2 * rect[2].max(0) as usize * rect[3].max(0) as usize];
-    let guard = PixelStateGuard::save(gl, info);
-    // SAFETY: as in `read_depth`, with two floats per pixel.
-    unsafe {
-        gl.BindFramebuffer(READ_FRAMEBUFFER, fbo);
-        if info.has_pack_buffer() {
-            gl.BindBuffer(PIXEL_PACK_BUFFER, 0);
-        }
-        guard.pack_tightly(gl, 4);
-        gl.ReadPixels(rect[0], rect[1], rect[2], rect[3], RG, FLOAT, rg.as_mut_ptr().cast());
-    }
-    drop(guard);
-    rg
+    out
 }
