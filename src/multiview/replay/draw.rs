@@ -159,10 +159,7 @@ fn replay(
             }
         };
         // A view that records alone is drawn last: its record's mask is set once.
-        let last = match recorded {
-            Some((_, super::record::Views::Only(v))) => Some(v),
-            _ => None,
-        };
+        let last = recorded.and_then(|(_, v)| v.only());
         draw_tiles(gl, app, mv, (layout, last), scissored, set_tile, &draw_and_record);
         if let Some((writes, _)) = recorded {
             super::record::done(gl, mv, writes);

@@ -19,14 +19,15 @@ pub enum Views {
     Only(u32),
 }
 
-fn only(views: Views) -> Option<u32> {
-    match views {
-        Views::All => None,
-        Views::Only(v) => Some(v),
-    }
-}
-
 impl Views {
+    /// The one view that records alone, if so.
+    pub fn only(self) -> Option<u32> {
+        match self {
+            Views::All => None,
+            Views::Only(v) => Some(v),
+        }
+    }
+
     pub fn includes(self, view: u32) -> bool {
         match self {
             Views::All => true,
@@ -68,7 +69,7 @@ pub fn quilt(gl: &Gl, app: &AppState, mv: &mut Multiview, views: Views, blending
         .filter(|t| t.samples == 0)
         .map(|t| (t.layout.width() as i32, t.layout.height() as i32))?;
     let img = mv.record.quilt_image(gl, size);
-    mv.record.mark(false, only(views));
+    mv.record.mark(false, views.only());
     DisparityRecord::attach_bound(gl, img, 0);
     let writes = DisparityRecord::app_writes_colour(gl);
     DisparityRecord::mask(gl, writes && views == Views::All);
@@ -76,10 +77,11 @@ pub fn quilt(gl: &Gl, app: &AppState, mv: &mut Multiview, views: Views, blending
     Some(writes)
 }
 
-/// Before tile `view` of a draw into the quilt that records `views` only.
+/// Before tile `view` of a draw into the quilt: the record unmasked for the view that
+/// records alone (drawn last, after the tiles `quilt` left masked).
 pub fn tile(gl: &Gl, views: Views, writes: bool, view: u32) {
-    if views != Views::All {
-        DisparityRecord::mask(gl, writes && views.includes(view));
+    if writes && views.only() == Some(view) {
+        DisparityRecord::mask(gl, true);
     }
 }
 
@@ -115,7 +117,7 @@ pub fn shadow(gl: &Gl, app: &AppState, mv: &mut Multiview, views: Views, blendin
         return None;
     }
     let img = mv.record.shadow_image(gl, fbo, size, layers);
-    mv.record.mark(true, only(views));
+    mv.record.mark(true, views.only());
     mv.record.before_draw(gl, program_records(app), blending);
     Some(img)
 }
