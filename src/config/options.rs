@@ -83,7 +83,7 @@ pub static OPTIONS: &[OptDef] = &[
         |v| super::comfort::comfort(v).map(|_| ())),
     opt("sky-at-infinity", "on|off", "draws attached to the camera (a sky box around the eye: a model-view with no translation) get the disparity of infinity (default on)",
         |v| super::parse::switch(v).map(|_| ())),
-    opt("disparity-record", "on|off", "fast modes and --dof: every rendered view records the disparity each draw gave its pixels, read by the warps and the depth of field instead of converting depth with one camera (default on)",
+    opt("disparity-record", "on|off", "every rendered view records the disparity each draw gave its pixels, read by the warps, auto-convergence, the depth of field, the edge fade and --dump-disparity instead of converting depth with one camera (default on)",
         |v| super::parse::switch(v).map(|_| ())),
     opt("fbo-views", "auto|all|none", "which of the program's own framebuffers get a layer per view: auto (view-dependent passes; default), all, none",
         |v| super::parse::fbo_views(v).map(|_| ())),
