@@ -291,6 +291,30 @@ fn glmark2_desktop_fbo_quilt_centre() {
     let prog = ["glmark2", "-s", "400x300", "-b", "desktop:duration=0.5"];
     let checks = QuiltChecks { parallax: false };
     replay_quilt("glmark2_desktop_fbo_quilt", "gl", "glretrace", &prog, "20", 8, checks);
+    flat_frame_fills_every_view_in_synth(&temp_path("glmark2_desktop_fbo_quilt"));
+}
+
+/// The same trace under `--mode synth`: nothing in the frame depends on the view, so there is
+/// no warp point, and every view must show what the rendered one shows. Regression: the views
+/// that are not rendered were left as they were (black: 14 of 15 views in the disparity sweep).
+fn flat_frame_fills_every_view_in_synth(dir: &Path) {
+    let trace = dir.join("glmark2_desktop_fbo_quilt.trace");
+    let dump = dir.join("synth");
+    let mut options = vec!["--mode", "synth", "--quilt", "5x1", "--log", "info"];
+    options.extend(dump_and_exit_at(&dump, "8"));
+    let out = under_layer(&options, "glretrace", &[trace.to_str().unwrap()], &[]);
+    assert_success(&out, "desktop under --mode synth");
+    let quilt_png = std::fs::read_dir(&dump)
+        .unwrap()
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .find(|p| p.file_name().is_some_and(|n| n.to_string_lossy().starts_with("f000008_qs")))
+        .unwrap_or_else(|| panic!("no quilt dumped in {}", dump.display()));
+    let quilt = read_png(&quilt_png);
+    let centre = tile(&quilt, 5, 1, 2);
+    for v in [0, 1, 3, 4] {
+        let what = format!("desktop synth: view {v} against the rendered centre view");
+        assert_within(&centre, &tile(&quilt, 5, 1, v), &suffixed(&quilt_png, &format!("-{v}")), EXACT, &what);
+    }
 }
 
 /// `refract`: the scene's depth drawn into a framebuffer with an unsized `GL_DEPTH_COMPONENT`

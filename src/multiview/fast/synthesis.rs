@@ -7,7 +7,7 @@
 //! whose depth means nothing). Colour always comes from the quilt tile: what the view shows.
 
 use crate::gl::depth_copy;
-use crate::gl::guard::StateGuard;
+use crate::gl::guard::{StateGuard, get_i};
 use crate::gl::*;
 use crate::log::{self, Level};
 use crate::multiview::Multiview;
@@ -43,8 +43,12 @@ pub fn mode_for(settings: &crate::config::ViewSettings, info: crate::gl::GlInfo)
 /// now; a measured frame is compared and logged.
 pub fn end_frame(gl: &Gl, mv: &mut Multiview, frame: u64) {
     mv.scene.ended_view = Some(mv.plan.nearest(mv.camera.rig.centre()));
-    if mv.plan.synthesise && !mv.plan.warped && mv.plan.scene_dirty {
-        warp(gl, mv);
+    if mv.plan.synthesise && !mv.plan.warped {
+        if mv.plan.scene_dirty {
+            warp(gl, mv);
+        } else {
+            copy_flat(gl, mv);
+        }
     }
     if let (Some(m), Some(t)) = (mv.measure.as_mut(), mv.target.as_ref())
         && let Some(e) = m.compare(gl, mv.info, t, &mv.plan.rendered)
@@ -94,6 +98,47 @@ pub fn warp(gl: &Gl, mv: &mut Multiview) {
         );
         mv.plan = super::plan::ViewPlan::new(crate::config::Mode::Exact, mv.plan.views());
         mv.auto = None;
+    }
+}
+
+/// A frame that drew nothing view-dependent into framebuffer 0 (a 2D program, a menu, a
+/// desktop of windows) has no disparity: every view shows what the rendered ones show, so
+/// each other tile is a copy of its nearest rendered tile (colour and depth, for the comfort
+/// pass). Without it those tiles keep whatever was there, black on the first frame.
+fn copy_flat(gl: &Gl, mv: &mut Multiview) {
+    let Some(t) = mv.target.as_ref().filter(|_| !mv.failed) else {
+        return;
+    };
+    if t.samples > 0 {
+        // Multisampled blits between two places of one buffer are not portable: the warp
+        // copies a flat frame as well.
+        warp(gl, mv);
+        return;
+    }
+    mv.plan.mark_warped();
+    let layout = t.layout;
+    let mask = COLOR_BUFFER_BIT | if t.depth != 0 { DEPTH_BUFFER_BIT } else { 0 };
+    let _guard = StateGuard::new(gl, mv.info)
+        .framebuffers()
+        .caps(&[SCISSOR_TEST, FRAMEBUFFER_SRGB]);
+    // SAFETY: blits between disjoint tiles of the quilt, a framebuffer of ours; bindings,
+    // scissor and sRGB are restored by the guard.
+    unsafe {
+        gl.Disable(SCISSOR_TEST);
+        gl.Disable(FRAMEBUFFER_SRGB);
+        gl.BindFramebuffer(READ_FRAMEBUFFER, t.fbo);
+        gl.BindFramebuffer(DRAW_FRAMEBUFFER, t.fbo);
+        // Framebuffer 0's read and draw buffers are the app's choice: ours for the copy.
+        let (read, draw) = (get_i(gl, READ_BUFFER) as GLenum, get_i(gl, DRAW_BUFFER0) as GLenum);
+        gl.ReadBuffer(COLOR_ATTACHMENT0);
+        gl.DrawBuffer(COLOR_ATTACHMENT0);
+        for v in (0..layout.views()).filter(|&v| !mv.plan.renders(v)) {
+            let [x, y, w, h] = layout.tile_rect(mv.plan.nearest(v));
+            let [dx, dy, _, _] = layout.tile_rect(v);
+            gl.BlitFramebuffer(x, y, x + w, y + h, dx, dy, dx + w, dy + h, mask, NEAREST);
+        }
+        gl.ReadBuffer(read);
+        gl.DrawBuffer(draw);
     }
 }
 
