@@ -307,13 +307,22 @@ fn flat_frame_fills_every_view_in_synth(dir: &Path) {
     let quilt_png = std::fs::read_dir(&dump)
         .unwrap()
         .filter_map(|e| e.ok().map(|e| e.path()))
-        .find(|p| p.file_name().is_some_and(|n| n.to_string_lossy().starts_with("f000008_qs")))
+        .find(|p| {
+            p.file_name()
+                .is_some_and(|n| n.to_string_lossy().starts_with("f000008_qs"))
+        })
         .unwrap_or_else(|| panic!("no quilt dumped in {}", dump.display()));
     let quilt = read_png(&quilt_png);
     let centre = tile(&quilt, 5, 1, 2);
     for v in [0, 1, 3, 4] {
         let what = format!("desktop synth: view {v} against the rendered centre view");
-        assert_within(&centre, &tile(&quilt, 5, 1, v), &suffixed(&quilt_png, &format!("-{v}")), EXACT, &what);
+        assert_within(
+            &centre,
+            &tile(&quilt, 5, 1, v),
+            &suffixed(&quilt_png, &format!("-{v}")),
+            EXACT,
+            &what,
+        );
     }
 }
 

@@ -15,6 +15,7 @@ pub mod draw;
 pub mod framebuffer;
 pub mod immediate;
 pub mod link;
+pub mod lists;
 pub mod raster;
 pub mod record;
 pub mod record_fixed;

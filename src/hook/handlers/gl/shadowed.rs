@@ -64,7 +64,7 @@ pub(crate) fn matrix_changed(mode: Option<GLenum>) {
 
 /// Display lists may hold any of the calls above.
 pub(crate) fn glCallList(real: impl Fn(GLuint), list: GLuint) {
-    crate::multiview::replay::record_fixed::unrepeatable(|| super::per_view(|| real(list)));
+    crate::multiview::replay::record_fixed::unrepeatable(|| per_view_list(Some(list), || real(list)));
     if shadowing() {
         crate::state::with_app(|app| app.list_called(Some(list)));
     }
@@ -77,8 +77,23 @@ pub(crate) fn glCallLists(
     ty: GLenum,
     lists: *const core::ffi::c_void,
 ) {
-    crate::multiview::replay::record_fixed::unrepeatable(|| super::per_view(|| real(n, ty, lists)));
+    crate::multiview::replay::record_fixed::unrepeatable(|| per_view_list(None, || real(n, ty, lists)));
     if shadowing() {
         crate::state::with_app(|app| app.list_called(None));
+    }
+}
+
+/// `per_view` for display lists (`None`: lists the layer cannot name): each view's call
+/// starts from the matrices the app called it with (`replay::lists`).
+fn per_view_list(list: Option<GLuint>, call: impl Fn()) {
+    let done = crate::hook::layer::with_active(|cur, app, mv, gl| {
+        let effect = list
+            .and_then(|l| app.lists.get(&l).copied())
+            .unwrap_or(ListEffect::Anything);
+        let matrices = crate::multiview::replay::lists::ListMatrices::new(effect);
+        crate::multiview::replay::draw::draw(gl, app, mv, &cur.ctx.group, || matrices.around(gl, &call))
+    });
+    if done.is_none() {
+        call()
     }
 }

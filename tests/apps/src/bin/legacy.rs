@@ -1,9 +1,10 @@
-//! `legacy`: OpenGL 1.x fixed-function app (compat context): glFrustum,
-//! immediate mode, nested display lists, client vertex arrays with texgen, fog, lighting,
-//! a `GL_SELECT` picking pass, and a glOrtho HUD with `glBitmap` text. `--sky` adds a sky box
-//! drawn around the eye first, as fixed-function racing games draw theirs: a unit cube under
-//! the camera's rotation alone (no translation), depth writes off; the reference quilt draws
-//! it at infinity (`View::projection_at_infinity`), where a viewer expects a sky.
+//! `legacy`: OpenGL 1.x fixed-function app (compat context): glFrustum, immediate mode,
+//! nested display lists (one moving the current matrix), client vertex arrays with texgen,
+//! fog, lighting, a `GL_SELECT` picking pass, and a glOrtho HUD with `glBitmap` text.
+//! `--sky` adds a sky box drawn around the eye first, as fixed-function racing games draw
+//! theirs: a unit cube under the camera's rotation alone (no translation), depth writes off;
+//! the reference quilt draws it at infinity (`View::projection_at_infinity`), where a viewer
+//! expects a sky.
 use holoapps::cli::{AppInfo, Options};
 use holoapps::gl::{self, Gl};
 use holoapps::legacy_extras::{self, Extras};
@@ -18,7 +19,9 @@ const EYE_Z: f32 = 12.0;
 const FOG: [f32; 4] = [0.55, 0.65, 0.75, 1.0];
 
 struct Legacy {
-    /// Outer list; it calls the inner `pyramid` list several times.
+    /// Outer list: turns the current matrix (outside any push/pop of its own, as xscreensaver's
+    /// `engine` does) and calls the `ring` list, which calls the inner `pyramid` list several
+    /// times.
     cluster: u32,
     extras: Extras,
     sky: bool,
@@ -47,7 +50,7 @@ unsafe fn pyramid(gl: &Gl) {
 impl Legacy {
     fn new(gl: &Gl, sky: bool) -> Result<Self, String> {
         unsafe {
-            let base = gl.GenLists(2);
+            let base = gl.GenLists(3);
             if base == 0 {
                 return Err("glGenLists failed".into());
             }
@@ -66,8 +69,12 @@ impl Legacy {
                 gl.PopMatrix();
             }
             gl.EndList();
+            gl.NewList(base + 2, gl::COMPILE);
+            gl.Rotatef(15.0, 0.0, 1.0, 0.0);
+            gl.CallList(base + 1);
+            gl.EndList();
             Ok(Legacy {
-                cluster: base + 1,
+                cluster: base + 2,
                 extras: Extras::new(gl),
                 sky,
                 weapon: Weapon::None,
