@@ -11,9 +11,11 @@
 //! parallax is `w·p · gl_FragCoord.w`. The fragment shader's `main` is wrapped to write it
 //! to draw buffer [`RECORD_BUFFER`] as `(p, 1, 0, coverage)`: `g = 1` marks the pixel as
 //! recorded (fixed-function and unrewritten draws leave `0` there, see
-//! `multiview::scene::record`), and `coverage` (`alpha ≥ ½` of the app's colour) is the
-//! blend factor when the app blends, so a translucent surface the viewer mostly sees through
-//! leaves the record of what is behind it, and one that mostly covers it replaces it.
+//! `multiview::scene::record`), and `coverage` (the app's alpha contributes at all, `≥
+//! 1/255`) is the blend factor when the app blends, so a translucent surface replaces the
+//! record where it shows at all and leaves the record of what is behind it where it is fully
+//! transparent (½ was tried: glmark2 jellyfish 44 % of blocks agree against 84 %,
+//! chromium-bsu's sprites 44 % against 80 %).
 //!
 //! Two output styles: shaders writing `gl_FragColor` / `gl_FragData` (any version) get
 //! `gl_FragColor` renamed to `gl_FragData[0]` (the two cannot be mixed) and write

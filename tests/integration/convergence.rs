@@ -189,3 +189,67 @@ fn the_disparity_dump_shows_a_weapon_in_its_own_depth_range_where_exact_does() {
         assert!(depth_only > 0.02, "{program}: the control: {:.3} %", 100.0 * depth_only);
     }
 }
+
+/// A translucent fixed-function draw without depth writes (`legacy --weapon glass|ghost`: the
+/// box blended at alpha 0.4 or 0, as games draw sprites, particles and sprites fading out) is
+/// recorded by its coverage, as the shader record is: where it contributes at all (glass) the
+/// dump shows the box's own disparity, the same image as the opaque box's; where it
+/// contributes nothing (ghost), the scene behind it, the same image as without the box.
+/// Before, such draws recorded nothing and the glass box showed the scene's disparity (the
+/// box covers 7.6 % of the quilt).
+#[test]
+fn the_disparity_dump_records_a_translucent_fixed_function_draw_by_its_coverage() {
+    let dump = |weapon: &str| {
+        let dir = temp_dir(&format!("translucent_dump_{weapon}"));
+        let mut options = vec![
+            "--output",
+            "quilt",
+            "--quilt",
+            "3x3",
+            "--convergence",
+            "2.5",
+            "--dump-disparity",
+        ];
+        options.extend(dump_and_exit_at(&dir, "3"));
+        let args = [
+            "--backend",
+            "egl",
+            "--size",
+            "320x240",
+            "--frames",
+            "3",
+            "--weapon",
+            weapon,
+        ];
+        let out = under_layer(&options, app("legacy"), &args, &[]);
+        assert_success(&out, &format!("legacy --weapon {weapon}"));
+        assert_no_gl_error(&out);
+        read_png(&dir.join("f000003_disparity_qs3x3a1.3333.png"))
+    };
+    let share = |a: &Image, b: &Image| pixels_off(a, b, 2) as f64 / f64::from(a.width * a.height);
+    let (none, plain) = (dump("none"), dump("plain"));
+    let glass = share(&plain, &dump("glass"));
+    let ghost = share(&none, &dump("ghost"));
+    let box_share = share(&none, &plain);
+    eprintln!(
+        "translucent box: glass against the opaque box {:.3} %, ghost against no box {:.3} %, the box itself {:.3} %",
+        100.0 * glass,
+        100.0 * ghost,
+        100.0 * box_share
+    );
+    assert!(
+        box_share > 0.02,
+        "the control: the box covers only {:.3} %",
+        100.0 * box_share
+    );
+    assert!(
+        glass < 0.001,
+        "glass: {:.3} % of the dump differs from the opaque box's",
+        100.0 * glass
+    );
+    assert!(
+        ghost < 0.001,
+        "ghost: {:.3} % of the dump differs from the scene's",
+        100.0 * ghost
+    );
+}

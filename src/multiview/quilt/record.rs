@@ -10,7 +10,7 @@
 //! readers fall back to depth there. Programs that write it blend with `SRC_ALPHA,
 //! ONE_MINUS_SRC_ALPHA` when the app blends, with the coverage step of the shader as alpha,
 //! so "what the viewer sees" decides: the nearest opaque surface through the depth test, a
-//! translucent one where it covers at least half.
+//! translucent one where it contributes at all.
 //!
 //! The textures and framebuffers are ours. The draw-buffer list of our view framebuffers
 //! gains `RECORD_BUFFER` for each recorded draw only; the quilt's keeps it from a recorded draw

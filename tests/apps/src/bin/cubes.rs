@@ -202,6 +202,9 @@ fn main() -> ExitCode {
             c.orbit = number("orbit")?;
             c.spin = number("spin")?;
             c.weapon = weapon::parse(&o.extra["weapon"])?;
+            if weapon::alpha(c.weapon).is_some() {
+                return Err(format!("--weapon {}: legacy only", o.extra["weapon"]));
+            }
             c.reversed = match o.extra["depth"].as_str() {
                 "standard" => false,
                 "reversed" => true,

@@ -171,7 +171,16 @@ impl Legacy {
             gl.Translatef(c[0], c[1], c[2]);
             gl.Scalef(h[0], h[1], h[2]);
             gl.Disable(gl::FOG);
-            gl.Color3f(0.8, 0.75, 0.7);
+            let alpha = weapon::alpha(w);
+            gl.Color4f(0.8, 0.75, 0.7, alpha.unwrap_or(1.0));
+            if alpha.is_some() {
+                gl.Enable(gl::BLEND);
+                gl.BlendFunc(gl::SRC_ALPHA, gl::ONE_MINUS_SRC_ALPHA);
+                gl.DepthMask(gl::FALSE);
+                // One layer of glass, as a game draws a translucent mesh: its far side would
+                // otherwise be blended over its near side.
+                gl.Enable(gl::CULL_FACE);
+            }
             gl.DepthRange(near, far);
             gl.Begin(gl::QUADS);
             for axis in 0..3 {
@@ -189,6 +198,11 @@ impl Legacy {
                 }
             }
             gl.End();
+            if alpha.is_some() {
+                gl.DepthMask(gl::TRUE);
+                gl.Disable(gl::BLEND);
+                gl.Disable(gl::CULL_FACE);
+            }
             gl.DepthRange(0.0, 1.0);
             gl.Enable(gl::FOG);
             gl.PopMatrix();
