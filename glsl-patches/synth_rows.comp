@@ -54,12 +54,42 @@ bool nearer(float a, float b)
     return u_reversed == 1 ? a >= b : a <= b;
 }
 
+// Scanning a target's second source: it only fills what its preferred (nearer) source left
+// as holes, so the two are never mixed on one surface (a depth test between two sources'
+// samples of one surface picks either by a hair, in streaks: issue 23). The second source's
+// solid writes carry bit 30 (never set in a depth in [0, 1]) until `second_done` clears it.
+bool second;
+const uint HOLE = 0x80000000u;
+const uint SECOND = 0x40000000u;
+
 void put(int x, vec4 c, float z, bool hole)
 {
     int i = out_base + x;
-    if (nearer(z, abs(out_pixels[i].depth))) {
-        out_pixels[i].depth = hole ? uintBitsToFloat(floatBitsToUint(z) | 0x80000000u) : z;
+    uint e = floatBitsToUint(out_pixels[i].depth);
+    float was = uintBitsToFloat(e & ~(HOLE | SECOND));
+    bool write;
+    if (!second) {
+        write = nearer(z, was);
+    } else if ((e & HOLE) != 0u) {
+        write = !hole || nearer(z, was);
+    } else {
+        write = (e & SECOND) != 0u && !hole && nearer(z, was);
+    }
+    if (write) {
+        uint mark = hole ? HOLE : (second ? SECOND : 0u);
+        out_pixels[i].depth = uintBitsToFloat(floatBitsToUint(z) | mark);
         out_pixels[i].color = packUnorm4x8(c);
+    }
+}
+
+// The second source's marks cleared: its solid pixels are solid pixels.
+void second_done()
+{
+    for (int x = 0; x < width; x++) {
+        uint e = floatBitsToUint(out_pixels[out_base + x].depth);
+        if ((e & SECOND) != 0u) {
+            out_pixels[out_base + x].depth = uintBitsToFloat(e & ~SECOND);
+        }
     }
 }
 
@@ -144,8 +174,11 @@ void main()
         out_pixels[out_base + x] = Out(0u, far);
     }
     Target t = targets[layer];
-    if (t.src.z == 2) {
-        scan(t.src.x, t.du.x);
-    }
+    second = false;
     scan(t.src.y, t.du.y);
+    if (t.src.z == 2) {
+        second = true;
+        scan(t.src.x, t.du.x);
+        second_done();
+    }
 }

@@ -54,7 +54,7 @@ pub static OPTIONS: &[OptDef] = &[
         |v| super::parse::reuse_motion(v).map(|_| ())),
     opt("synth-threshold", "PX", "synthesis: split a grid cell while its disparity range in the outermost view exceeds PX tile pixels (default 1)",
         |v| super::parse::synth_threshold(v).map(|_| ())),
-    opt("synth-warp", "rows|grid", "synthesis warp: rows (default: a compute pass per row, no triangles) or grid (Didyk's adaptive quad grid drawn as triangles)",
+    opt("synth-warp", "rows|grid|gather", "synthesis warp: rows (default: a compute pass per row, no triangles), grid (Didyk's adaptive quad grid drawn as triangles) or gather (one pass per view, each pixel finds what lands on it: the GPU's shape)",
         |v| super::parse::synth_warp(v).map(|_| ())),
     opt("measure-error", "LIST|every:N", "on these frames render the exact quilt too and log each synthesised view's PSNR against it",
         |v| super::parse::frames(v).map(|_| ())),

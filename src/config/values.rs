@@ -200,6 +200,8 @@ pub enum SynthWarp {
     Rows,
     /// Didyk et al.'s adaptive quad grid, drawn as triangles.
     Grid,
+    /// Each target pixel finds what lands on it: one pass per view (issue 23).
+    Gather,
 }
 
 /// `--synth-warp`.
@@ -207,7 +209,8 @@ pub fn synth_warp(v: &str) -> Result<SynthWarp, String> {
     match v.trim() {
         "rows" => Ok(SynthWarp::Rows),
         "grid" => Ok(SynthWarp::Grid),
-        _ => Err(format!("`{v}`: expected rows or grid")),
+        "gather" => Ok(SynthWarp::Gather),
+        _ => Err(format!("`{v}`: expected rows, grid or gather")),
     }
 }
 

@@ -39,6 +39,8 @@ enum Saved {
     Buffer(GLenum, u32),
     /// (target, index, name, start, size) of an indexed buffer binding.
     IndexedBuffer(GLenum, u32, u32, i64, i64),
+    /// (unit, name, level, layered, layer, access, format) of an image unit.
+    Image(u32, u32, i32, u8, i32, GLenum, GLenum),
 }
 
 pub struct StateGuard<'a> {
@@ -260,6 +262,28 @@ impl<'a> StateGuard<'a> {
         self
     }
 
+    /// Image units `units` (GL 4.2), as `glBindImageTexture` sets them.
+    pub fn images(mut self, units: std::ops::Range<u32>) -> Self {
+        for u in units {
+            let at = |pname| {
+                let mut v = 0i32;
+                // SAFETY: an indexed integer query into a local.
+                unsafe { self.gl.GetIntegeri_v(pname, u, &mut v) };
+                v
+            };
+            self.saved.push(Saved::Image(
+                u,
+                at(IMAGE_BINDING_NAME) as u32,
+                at(IMAGE_BINDING_LEVEL),
+                at(IMAGE_BINDING_LAYERED) as u8,
+                at(IMAGE_BINDING_LAYER),
+                at(IMAGE_BINDING_ACCESS) as GLenum,
+                at(IMAGE_BINDING_FORMAT) as GLenum,
+            ));
+        }
+        self
+    }
+
     pub fn matrix_mode(mut self) -> Self {
         self.saved.push(Saved::MatrixMode(get_i(self.gl, MATRIX_MODE)));
         self
@@ -310,6 +334,9 @@ impl<'a> StateGuard<'a> {
                 Saved::IndexedBuffer(target, i, name, _, 0) => gl.BindBufferBase(target, i, name),
                 Saved::IndexedBuffer(target, i, name, start, size) => {
                     gl.BindBufferRange(target, i, name, start as isize, size as isize)
+                }
+                Saved::Image(u, name, level, layered, layer, access, format) => {
+                    gl.BindImageTexture(u, name, level, layered, layer, access, format)
                 }
             }
         }

@@ -19,6 +19,7 @@
 //! Nothing here waits for the GPU or reads anything back.
 
 pub mod disparity;
+mod gather;
 mod grid;
 mod pass;
 mod pixel;
@@ -77,6 +78,8 @@ pub struct Job<'a> {
     pub threshold: f64,
     /// Warp row by row (`rows`) instead of by the quad grid.
     pub rows: bool,
+    /// Gather each target pixel (`gather`) instead of either.
+    pub gather: bool,
     /// Splat every pixel and fill the holes (`synth:pixel`) instead of warping the grid.
     pub per_pixel: bool,
 }
@@ -95,6 +98,8 @@ pub struct Synthesizer {
     row_programs: Option<Result<rows::RowPrograms, String>>,
     resources: Option<resources::Resources>,
     row_targets: Option<rows::RowTargets>,
+    gather_programs: Option<Result<gather::GatherPrograms, String>>,
+    gather_storage: Option<gather::GatherStorage>,
     fbo: u32,
     vao: u32,
     pixel: pixel::PixelSynth,
@@ -116,7 +121,7 @@ impl Synthesizer {
         if job.sources.is_empty() || job.targets.is_empty() {
             return Ok(());
         }
-        let grid = !job.rows && !job.per_pixel;
+        let grid = !job.rows && !job.gather && !job.per_pixel;
         let programs = match &self.programs {
             Some(Ok(p)) if p.has_grid() || !grid => *p,
             Some(Err(e)) => return Err(e.clone()),
@@ -129,7 +134,19 @@ impl Synthesizer {
                 p?
             }
         };
-        let row_programs = if job.rows && !job.per_pixel {
+        let gather_programs = if job.gather && !job.per_pixel {
+            Some(match &self.gather_programs {
+                Some(p) => p.clone()?,
+                None => {
+                    let p = gather::GatherPrograms::link(gl, info);
+                    self.gather_programs = Some(p.clone());
+                    p?
+                }
+            })
+        } else {
+            None
+        };
+        let row_programs = if job.rows && !job.gather && !job.per_pixel {
             Some(match &self.row_programs {
                 Some(p) => p.clone()?,
                 None => {
@@ -152,6 +169,7 @@ impl Synthesizer {
         }
         let pass = pass::Pass {
             gl,
+            info,
             programs: &programs,
             res,
             fbo: self.fbo,
@@ -162,11 +180,25 @@ impl Synthesizer {
         if job.per_pixel {
             return self.pixel.run(gl, info, &pass, job);
         }
+        let count = job.targets.len();
+        let sources = job.sources.len();
+        if let Some(gather_programs) = gather_programs {
+            if !self
+                .gather_storage
+                .as_ref()
+                .is_some_and(|t| t.fits(job.tile, sources, count))
+            {
+                if let Some(old) = self.gather_storage.take() {
+                    old.delete(gl);
+                }
+                self.gather_storage = Some(gather::GatherStorage::create(gl, job.tile, sources, count));
+            }
+            let out = self.gather_storage.as_ref().ok_or("no gather storage")?;
+            return gather::run(&pass, &gather_programs, out, job);
+        }
         let Some(row_programs) = row_programs else {
             return grid::run(&pass, job);
         };
-        let count = job.targets.len();
-        let sources = job.sources.len();
         if !self
             .row_targets
             .as_ref()
@@ -252,6 +284,13 @@ impl Synthesizer {
         }
         if let Some(Ok(p)) = &self.row_programs {
             o.programs.extend(p.names());
+        }
+        if let Some(Ok(p)) = &self.gather_programs {
+            o.programs.extend(p.names());
+        }
+        if let Some(g) = &self.gather_storage {
+            o.textures.extend(g.textures());
+            o.buffers.extend(g.buffers());
         }
         if let Some(r) = &self.resources {
             o.textures.extend(r.textures());

@@ -44,6 +44,7 @@ pub use crate::gl::program::uniform as loc;
 /// working storage of this context.
 pub struct Pass<'a> {
     pub gl: &'a Gl,
+    pub info: GlInfo,
     pub programs: &'a Programs,
     pub res: &'a Resources,
     pub fbo: u32,

@@ -67,7 +67,7 @@ fn bad_modes_are_refused_not_ignored() {
     assert_one_line_error(&launch(&["run", "--mode", "hybrid:0", "--", "true"], &[]), "hybrid:K");
     assert_one_line_error(
         &launch(&["run", "--synth-warp", "quads", "--", "true"], &[]),
-        "rows or grid",
+        "rows, grid or gather",
     );
 }
 

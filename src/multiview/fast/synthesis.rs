@@ -178,7 +178,7 @@ pub fn capture_depth(gl: &Gl, mv: &mut Multiview) {
     if format.multisampled {
         return;
     }
-    let grid = mv.settings.synth_warp != crate::config::SynthWarp::Rows && !mv.plan.per_pixel;
+    let grid = mv.settings.synth_warp == crate::config::SynthWarp::Grid && !mv.plan.per_pixel;
     let tile = (layout.tile_w as i32, layout.tile_h as i32);
     let info = mv.info;
     let mut synth = std::mem::take(&mut mv.synth);
@@ -246,11 +246,18 @@ fn try_warp(gl: &Gl, mv: &mut Multiview, kept: &[u32]) -> Result<(), String> {
         remap: crate::multiview::quilt::comfort::remap_pixels(mv),
         threshold: mv.settings.synth_threshold,
         rows: mv.settings.synth_warp == crate::config::SynthWarp::Rows,
+        gather: mv.settings.synth_warp == crate::config::SynthWarp::Gather,
         per_pixel: mv.plan.per_pixel,
     };
     if !ANNOUNCED.swap(true, std::sync::atomic::Ordering::Relaxed) {
         let how = if job.per_pixel {
             "splatted per pixel, holes filled by pull-push".to_string()
+        } else if job.gather {
+            format!(
+                "gathered pixel by pixel from their source rows (neighbouring pixels as one \
+                 piece unless their disparities differ by more than {} px)",
+                job.threshold
+            )
         } else if job.rows {
             format!(
                 "warped row by row (neighbouring pixels as one piece unless their disparities \
