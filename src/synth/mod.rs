@@ -80,6 +80,9 @@ pub struct Job<'a> {
     pub rows: bool,
     /// Gather each target pixel (`gather`) instead of either.
     pub gather: bool,
+    /// Count the pixels filled over holes (`Synthesizer::hole_fraction`; the row warp only,
+    /// on frames measured against exact).
+    pub count_holes: bool,
     /// Splat every pixel and fill the holes (`synth:pixel`) instead of warping the grid.
     pub per_pixel: bool,
 }
@@ -265,7 +268,8 @@ impl Synthesizer {
     }
 
     /// The share of the last row warp's pixels that were filled over holes (disocclusions
-    /// and what comes into view beyond the edge); `None` for the grid. Waits for the warp.
+    /// and what comes into view beyond the edge), counted when the job asked; `None` for the
+    /// other warps. Waits for the warp.
     pub fn hole_fraction(&self, gl: &Gl) -> Option<f64> {
         self.row_targets.as_ref().map(|t| t.hole_fraction(gl))
     }
@@ -298,6 +302,7 @@ impl Synthesizer {
         }
         if let Some(t) = &self.row_targets {
             o.buffers.extend(t.buffers());
+            o.textures.extend(t.textures());
         }
         self.pixel.shared_objects(&mut o);
         o

@@ -11,6 +11,7 @@ use super::Job;
 use super::pass::{Pass, loc};
 use super::programs::FULLSCREEN_VERT;
 use crate::gl::GlInfo;
+use crate::gl::guard::get_i;
 use crate::gl::*;
 
 const ROWS_COMP: &str = include_str!("../../glsl-patches/synth_rows.comp");
@@ -56,6 +57,8 @@ pub struct RowTargets {
     params: u32,
     /// One counter: the pixels of the last warp's targets filled over holes.
     holes: u32,
+    /// A buffer texture (RG32UI) over `warped`, which the resolve pass reads.
+    warped_view: u32,
 }
 
 /// Per target, as `Target` in synth_rows.comp (std430: vec4 then ivec4).
@@ -88,7 +91,17 @@ impl RowTargets {
             warped: storage(gl, pixels * count * 8),
             params: storage(gl, count * std::mem::size_of::<Params>()),
             holes: storage(gl, 4),
+            warped_view: {
+                let mut t = 0;
+                // SAFETY: a name for our buffer texture (pointed at `warped` when resolving).
+                unsafe { gl.GenTextures(1, &mut t) };
+                t
+            },
         }
+    }
+
+    pub fn textures(&self) -> [u32; 1] {
+        [self.warped_view]
     }
 
     pub fn fits(&self, tile: (i32, i32), sources: usize, count: usize) -> bool {
@@ -101,7 +114,10 @@ impl RowTargets {
 
     pub fn delete(&self, gl: &Gl) {
         // SAFETY: deleting our own objects; zero names are ignored.
-        unsafe { gl.DeleteBuffers(4, self.buffers().as_ptr()) };
+        unsafe {
+            gl.DeleteBuffers(4, self.buffers().as_ptr());
+            gl.DeleteTextures(1, &self.warped_view);
+        }
     }
 
     /// The last warp's output, one (colour, depth) per target pixel, targets in the job's
@@ -138,7 +154,7 @@ pub fn run(pass: &Pass, programs: &RowPrograms, out: &RowTargets, job: &Job) -> 
     }
     warp_rows(pass, programs, out, job);
     profile.lap("rows");
-    resolve(pass, programs, out, job);
+    resolve(pass, programs, out, job)?;
     profile.lap("resolve");
     Ok(())
 }
@@ -194,9 +210,11 @@ fn warp_rows(pass: &Pass, programs: &RowPrograms, out: &RowTargets, job: &Job) {
         gl.BindBufferBase(SHADER_STORAGE_BUFFER, 0, out.params);
         gl.BindBufferBase(SHADER_STORAGE_BUFFER, 1, out.packed);
         gl.BindBufferBase(SHADER_STORAGE_BUFFER, 2, out.warped);
+        gl.BindBufferBase(SHADER_STORAGE_BUFFER, 3, out.holes);
         gl.UseProgram(p);
         gl.Uniform2i(loc(gl, p, "u_tile"), job.tile.0, job.tile.1);
         gl.Uniform1i(loc(gl, p, "u_targets"), params.len() as i32);
+        gl.Uniform1i(loc(gl, p, "u_count_holes"), job.count_holes as i32);
         gl.Uniform2f(
             loc(gl, p, "u_px"),
             (job.depthiness * px) as f32,
@@ -210,12 +228,28 @@ fn warp_rows(pass: &Pass, programs: &RowPrograms, out: &RowTargets, job: &Job) {
     }
 }
 
-/// Each target's colour and depth into its tile (depth written whatever was there).
-fn resolve(pass: &Pass, programs: &RowPrograms, out: &RowTargets, job: &Job) {
+/// Each target's colour and depth into its tile (depth written whatever was there), read
+/// through a buffer texture over the warped pixels: all targets at once where this GL's
+/// buffer textures are that large, else one target at a time (where the offsets allow).
+fn resolve(pass: &Pass, programs: &RowPrograms, out: &RowTargets, job: &Job) -> Result<(), String> {
     let (gl, p) = (pass.gl, programs.resolve);
+    let pixels = job.tile.0 as i64 * job.tile.1 as i64;
+    let whole = pixels * job.targets.len() as i64 <= get_i(gl, MAX_TEXTURE_BUFFER_SIZE) as i64;
+    let align = get_i(gl, TEXTURE_BUFFER_OFFSET_ALIGNMENT).max(1) as i64;
+    if !whole && ((pixels * 8) % align != 0 || pixels > get_i(gl, MAX_TEXTURE_BUFFER_SIZE) as i64) {
+        return Err(format!(
+            "a {}x{} tile's warped pixels do not fit this GL's buffer textures",
+            job.tile.0, job.tile.1
+        ));
+    }
     // SAFETY: our program and textures, into the layer's own framebuffer; all of it is
-    // restored by the caller's guard.
+    // restored by the caller's guard (unit 4's buffer texture included).
     unsafe {
+        gl.ActiveTexture(TEXTURE4);
+        gl.BindTexture(TEXTURE_BUFFER, out.warped_view);
+        if whole {
+            gl.TexBuffer(TEXTURE_BUFFER, RG32UI, out.warped);
+        }
         gl.BindFramebuffer(DRAW_FRAMEBUFFER, job.dest_fbo);
         gl.Enable(DEPTH_TEST);
         gl.DepthFunc(ALWAYS);
@@ -223,17 +257,29 @@ fn resolve(pass: &Pass, programs: &RowPrograms, out: &RowTargets, job: &Job) {
         gl.Enable(SCISSOR_TEST);
         gl.UseProgram(p);
         gl.Uniform2i(loc(gl, p, "u_tile"), job.tile.0, job.tile.1);
-        gl.BindBufferBase(SHADER_STORAGE_BUFFER, 2, out.warped);
-        gl.BindBufferBase(SHADER_STORAGE_BUFFER, 3, out.holes);
+        gl.Uniform1i(loc(gl, p, "u_warped"), 4);
         gl.BindVertexArray(pass.vao);
         let (u_layer, u_origin) = (loc(gl, p, "u_layer"), loc(gl, p, "u_origin"));
         for (i, t) in job.targets.iter().enumerate() {
             let r = t.rect;
             gl.Viewport(r[0], r[1], r[2], r[3]);
             gl.Scissor(r[0], r[1], r[2], r[3]);
-            gl.Uniform1i(u_layer, i as i32);
+            if whole {
+                gl.Uniform1i(u_layer, i as i32);
+            } else {
+                let bytes = pixels * 8;
+                gl.TexBufferRange(
+                    TEXTURE_BUFFER,
+                    RG32UI,
+                    out.warped,
+                    (i as i64 * bytes) as isize,
+                    bytes as isize,
+                );
+                gl.Uniform1i(u_layer, 0);
+            }
             gl.Uniform2i(u_origin, r[0], r[1]);
             gl.DrawArrays(TRIANGLES, 0, 3);
         }
     }
+    Ok(())
 }

@@ -17,6 +17,7 @@ use std::sync::atomic::AtomicBool;
 static FAILED: AtomicBool = AtomicBool::new(false);
 static ANNOUNCED: AtomicBool = AtomicBool::new(false);
 static UNSUPPORTED: AtomicBool = AtomicBool::new(false);
+static FLAT: AtomicBool = AtomicBool::new(false);
 
 /// The mode this context runs in: the one asked for, or exact (said once) where the
 /// synthesis passes cannot run.
@@ -116,6 +117,13 @@ fn copy_flat(gl: &Gl, mv: &mut Multiview) {
         return;
     }
     mv.plan.mark_warped();
+    log::once(
+        &FLAT,
+        Level::Info,
+        format_args!(
+            "synthesis: a frame with nothing view-dependent in the window: its rendered views are copied into the others"
+        ),
+    );
     let layout = t.layout;
     let mask = COLOR_BUFFER_BIT | if t.depth != 0 { DEPTH_BUFFER_BIT } else { 0 };
     let _guard = StateGuard::new(gl, mv.info)
@@ -247,6 +255,7 @@ fn try_warp(gl: &Gl, mv: &mut Multiview, kept: &[u32]) -> Result<(), String> {
         threshold: mv.settings.synth_threshold,
         rows: mv.settings.synth_warp == crate::config::SynthWarp::Rows,
         gather: mv.settings.synth_warp == crate::config::SynthWarp::Gather,
+        count_holes: mv.measure.is_some() && mv.plan.all,
         per_pixel: mv.plan.per_pixel,
     };
     if !ANNOUNCED.swap(true, std::sync::atomic::Ordering::Relaxed) {
