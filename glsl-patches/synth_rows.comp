@@ -19,16 +19,18 @@ struct Pixel {
 layout(std430, binding = 1) readonly buffer Sources { Pixel src_pixels[]; };
 // A depth whose sign bit is set (depths are never negative) marks a pixel filled because
 // nothing of the sources landed there (a disocclusion, what comes into view beyond the edge,
-// or nothing at all yet): `row_done` counts the ones that stay, and --reuse's kept
+// or nothing at all yet): `count_holes` counts the ones that stay, and --reuse's kept
 // views may replace them (reuse_reproject.frag reads the same bit).
 struct Out {
     uint color;
     float depth;
 };
 layout(std430, binding = 2) buffer Targets_out { Out out_pixels[]; };
-// The pixels left filled over holes, counted per row here (a per-pixel atomic in the
-// resolve pass cost a software rasteriser more than the resolve itself).
+// The pixels left filled over holes, counted per row here when asked (a frame measured
+// against exact: another walk over the row); a per-pixel atomic in the resolve pass cost a
+// software rasteriser more than the resolve itself.
 layout(std430, binding = 3) buffer Holes { uint holes; };
+uniform int u_count_holes;
 uniform ivec2 u_tile;
 uniform int u_targets;
 // (s, f) times half the tile width: pixels per unit of parallax, and of focus.
@@ -57,53 +59,23 @@ bool nearer(float a, float b)
     return u_reversed == 1 ? a >= b : a <= b;
 }
 
-// Scanning a target's second source: it only fills what its preferred (nearer) source left
-// as holes, so the two are never mixed on one surface (a depth test between two sources'
-// samples of one surface picks either by a hair, in streaks: issue 23). The second source's
-// solid writes carry bit 30 (never set in a depth in [0, 1]) until `row_done` clears it.
-bool second;
-const uint HOLE = 0x80000000u;
-const uint SECOND = 0x40000000u;
-
 void put(int x, vec4 c, float z, bool hole)
 {
     int i = out_base + x;
-    uint e = floatBitsToUint(out_pixels[i].depth);
-    float was = uintBitsToFloat(e & ~(HOLE | SECOND));
-    bool write;
-    if (!second) {
-        write = nearer(z, was);
-    } else if ((e & HOLE) != 0u) {
-        write = !hole || nearer(z, was);
-    } else {
-        write = (e & SECOND) != 0u && !hole && nearer(z, was);
-    }
-    if (write) {
-        uint mark = hole ? HOLE : (second ? SECOND : 0u);
-        out_pixels[i].depth = uintBitsToFloat(floatBitsToUint(z) | mark);
+    if (nearer(z, abs(out_pixels[i].depth))) {
+        out_pixels[i].depth = hole ? uintBitsToFloat(floatBitsToUint(z) | 0x80000000u) : z;
         out_pixels[i].color = packUnorm4x8(c);
     }
 }
 
-// Counted only when asked (a frame measured against exact): another walk over the row.
-uniform int u_count_holes;
-
-// The second source's marks cleared (its solid pixels are solid pixels), and the row's
-// holes counted when asked.
-void row_done(bool marked)
+// The row's pixels left filled over holes, into the frame's count.
+void count_holes()
 {
-    if (!marked && u_count_holes == 0) {
-        return;
-    }
     uint n = 0u;
     for (int x = 0; x < width; x++) {
-        uint e = floatBitsToUint(out_pixels[out_base + x].depth);
-        if ((e & SECOND) != 0u) {
-            out_pixels[out_base + x].depth = uintBitsToFloat(e & ~SECOND);
-        }
-        n += e >> 31;
+        n += floatBitsToUint(out_pixels[out_base + x].depth) >> 31;
     }
-    if (n != 0u && u_count_holes == 1) {
+    if (n != 0u) {
         atomicAdd(holes, n);
     }
 }
@@ -189,11 +161,11 @@ void main()
         out_pixels[out_base + x] = Out(0u, far);
     }
     Target t = targets[layer];
-    second = false;
-    scan(t.src.y, t.du.y);
     if (t.src.z == 2) {
-        second = true;
         scan(t.src.x, t.du.x);
     }
-    row_done(t.src.z == 2);
+    scan(t.src.y, t.du.y);
+    if (u_count_holes == 1) {
+        count_holes();
+    }
 }

@@ -146,33 +146,12 @@ fn a_weapon_in_its_own_depth_range_counts_at_its_real_distance() {
 fn the_disparity_dump_shows_a_weapon_in_its_own_depth_range_where_exact_does() {
     for program in ["cubes", "legacy"] {
         let dump = |weapon: &str, record: &str| {
-            let dir = temp_dir(&format!("weapon_dump_{program}_{weapon}_{record}"));
-            let mut options = vec![
-                "--output",
-                "quilt",
-                "--quilt",
-                "3x3",
-                "--convergence",
-                "2.5",
-                "--dump-disparity",
-                "--disparity-record",
-                record,
-            ];
-            options.extend(dump_and_exit_at(&dir, "3"));
-            let args = [
-                "--backend",
-                "egl",
-                "--size",
-                "320x240",
-                "--frames",
-                "3",
-                "--weapon",
+            weapon_disparity_dump(
+                &format!("weapon_dump_{program}_{weapon}_{record}"),
+                program,
                 weapon,
-            ];
-            let out = under_layer(&options, app(program), &args, &[]);
-            assert_success(&out, &format!("{program} --weapon {weapon}"));
-            assert_no_gl_error(&out);
-            read_png(&dir.join("f000003_disparity_qs3x3a1.3333.png"))
+                record,
+            )
         };
         let plain = dump("plain", "on");
         let share = |other: &Image| pixels_off(&plain, other, 2) as f64 / f64::from(plain.width * plain.height);
@@ -199,33 +178,7 @@ fn the_disparity_dump_shows_a_weapon_in_its_own_depth_range_where_exact_does() {
 /// box covers 7.6 % of the quilt).
 #[test]
 fn the_disparity_dump_records_a_translucent_fixed_function_draw_by_its_coverage() {
-    let dump = |weapon: &str| {
-        let dir = temp_dir(&format!("translucent_dump_{weapon}"));
-        let mut options = vec![
-            "--output",
-            "quilt",
-            "--quilt",
-            "3x3",
-            "--convergence",
-            "2.5",
-            "--dump-disparity",
-        ];
-        options.extend(dump_and_exit_at(&dir, "3"));
-        let args = [
-            "--backend",
-            "egl",
-            "--size",
-            "320x240",
-            "--frames",
-            "3",
-            "--weapon",
-            weapon,
-        ];
-        let out = under_layer(&options, app("legacy"), &args, &[]);
-        assert_success(&out, &format!("legacy --weapon {weapon}"));
-        assert_no_gl_error(&out);
-        read_png(&dir.join("f000003_disparity_qs3x3a1.3333.png"))
-    };
+    let dump = |weapon: &str| weapon_disparity_dump(&format!("translucent_dump_{weapon}"), "legacy", weapon, "on");
     let share = |a: &Image, b: &Image| pixels_off(a, b, 2) as f64 / f64::from(a.width * a.height);
     let (none, plain) = (dump("none"), dump("plain"));
     let glass = share(&plain, &dump("glass"));
@@ -252,4 +205,36 @@ fn the_disparity_dump_records_a_translucent_fixed_function_draw_by_its_coverage(
         "ghost: {:.3} % of the dump differs from the scene's",
         100.0 * ghost
     );
+}
+
+/// `--dump-disparity` of frame 3 of `program --weapon weapon` (3x3, 320x240, converged at 2.5)
+/// with `--disparity-record record`, in a directory named `test`.
+fn weapon_disparity_dump(test: &str, program: &str, weapon: &str, record: &str) -> Image {
+    let dir = temp_dir(test);
+    let mut options = vec![
+        "--output",
+        "quilt",
+        "--quilt",
+        "3x3",
+        "--convergence",
+        "2.5",
+        "--dump-disparity",
+        "--disparity-record",
+        record,
+    ];
+    options.extend(dump_and_exit_at(&dir, "3"));
+    let args = [
+        "--backend",
+        "egl",
+        "--size",
+        "320x240",
+        "--frames",
+        "3",
+        "--weapon",
+        weapon,
+    ];
+    let out = under_layer(&options, app(program), &args, &[]);
+    assert_success(&out, &format!("{program} --weapon {weapon}"));
+    assert_no_gl_error(&out);
+    read_png(&dir.join("f000003_disparity_qs3x3a1.3333.png"))
 }
