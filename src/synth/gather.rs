@@ -84,36 +84,17 @@ struct Params {
     rect: [i32; 4],
 }
 
-fn array(gl: &Gl, format: GLenum, (w, h): (i32, i32), layers: usize) -> u32 {
-    let mut t = 0;
-    // SAFETY: creating our own texture; the caller's guard restores the binding.
-    unsafe {
-        gl.GenTextures(1, &mut t);
-        gl.BindTexture(TEXTURE_2D_ARRAY, t);
-        gl.TexStorage3D(TEXTURE_2D_ARRAY, 1, format, w.max(1), h.max(1), layers as i32);
-    }
-    super::resources::sample_plainly(gl, TEXTURE_2D_ARRAY, NEAREST);
-    t
-}
-
 impl GatherStorage {
     pub fn create(gl: &Gl, tile: (i32, i32), sources: usize, count: usize) -> GatherStorage {
+        use super::resources::{array, buffer};
         let width: i32 = levels(tile.0).iter().map(|l| l.1).sum();
-        let mut params = 0;
-        // SAFETY: our own buffer; the caller's guard restores ARRAY_BUFFER.
-        unsafe {
-            gl.GenBuffers(1, &mut params);
-            gl.BindBuffer(ARRAY_BUFFER, params);
-            let bytes = (count.max(1) * std::mem::size_of::<Params>()) as isize;
-            gl.BufferData(ARRAY_BUFFER, bytes, core::ptr::null(), DYNAMIC_DRAW);
-        }
         GatherStorage {
             tile,
             sources,
             count,
-            packed: array(gl, RGBA32UI, tile, sources),
-            bounds: array(gl, RG32F, (width, tile.1), sources),
-            params,
+            packed: array(gl, RGBA32UI, tile, sources, NEAREST),
+            bounds: array(gl, RG32F, (width, tile.1), sources, NEAREST),
+            params: buffer(gl, (count.max(1) * std::mem::size_of::<Params>()) as isize),
         }
     }
 

@@ -87,6 +87,22 @@ pub struct Job<'a> {
     pub per_pixel: bool,
 }
 
+/// The storage in `slot`, made again (the old one deleted) unless it `fits`.
+fn refit<T>(
+    slot: &mut Option<T>,
+    fits: impl Fn(&T) -> bool,
+    create: impl FnOnce() -> T,
+    delete: impl FnOnce(T),
+) -> Result<&T, String> {
+    if !slot.as_ref().is_some_and(fits) {
+        if let Some(old) = slot.take() {
+            delete(old);
+        }
+        *slot = Some(create());
+    }
+    slot.as_ref().ok_or_else(|| "no synthesis storage".to_string())
+}
+
 fn delete_programs(gl: &Gl, names: &[u32]) {
     for &p in names {
         // SAFETY: deleting a program of ours.
@@ -186,33 +202,23 @@ impl Synthesizer {
         let count = job.targets.len();
         let sources = job.sources.len();
         if let Some(gather_programs) = gather_programs {
-            if !self
-                .gather_storage
-                .as_ref()
-                .is_some_and(|t| t.fits(job.tile, sources, count))
-            {
-                if let Some(old) = self.gather_storage.take() {
-                    old.delete(gl);
-                }
-                self.gather_storage = Some(gather::GatherStorage::create(gl, job.tile, sources, count));
-            }
-            let out = self.gather_storage.as_ref().ok_or("no gather storage")?;
+            let out = refit(
+                &mut self.gather_storage,
+                |t| t.fits(job.tile, sources, count),
+                || gather::GatherStorage::create(gl, job.tile, sources, count),
+                |old| old.delete(gl),
+            )?;
             return gather::run(&pass, &gather_programs, out, job);
         }
         let Some(row_programs) = row_programs else {
             return grid::run(&pass, job);
         };
-        if !self
-            .row_targets
-            .as_ref()
-            .is_some_and(|t| t.fits(job.tile, sources, count))
-        {
-            if let Some(old) = self.row_targets.take() {
-                old.delete(gl);
-            }
-            self.row_targets = Some(rows::RowTargets::create(gl, job.tile, sources, count));
-        }
-        let out = self.row_targets.as_ref().ok_or("no row targets")?;
+        let out = refit(
+            &mut self.row_targets,
+            |t| t.fits(job.tile, sources, count),
+            || rows::RowTargets::create(gl, job.tile, sources, count),
+            |old| old.delete(gl),
+        )?;
         rows::run(&pass, &row_programs, out, job)
     }
 

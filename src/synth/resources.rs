@@ -34,7 +34,7 @@ pub struct Resources {
     pub leaf_stride: isize,
 }
 
-fn array(gl: &Gl, format: GLenum, (w, h): (i32, i32), layers: usize, filter: GLenum) -> u32 {
+pub(super) fn array(gl: &Gl, format: GLenum, (w, h): (i32, i32), layers: usize, filter: GLenum) -> u32 {
     let mut t = 0;
     // SAFETY: creating our own texture; the caller's guard restores the binding.
     unsafe {
@@ -64,7 +64,7 @@ pub fn sample_plainly(gl: &Gl, target: GLenum, filter: GLenum) {
 }
 
 /// A buffer of ours with `bytes` of uninitialised storage (written by our passes).
-fn buffer(gl: &Gl, bytes: isize) -> u32 {
+pub(super) fn buffer(gl: &Gl, bytes: isize) -> u32 {
     let mut b = 0;
     // SAFETY: our own buffer; the caller's guard restores ARRAY_BUFFER.
     unsafe {
