@@ -63,12 +63,66 @@ fn main() {
 }
 
 fn write_bindings(out: &Path, gl: &Registry, glx: &Registry, egl: &Registry) {
-    let mut f = fs::File::create(out.join("gl_bindings.rs")).unwrap();
+    let mut f = Vec::new();
     gl.write_bindings(StructGenerator, &mut f).unwrap();
+    fs::write(
+        out.join("gl_bindings.rs"),
+        count_gpu_work(&String::from_utf8(f).unwrap()),
+    )
+    .unwrap();
     let mut x = fs::File::create(out.join("glx_bindings.rs")).unwrap();
     glx.write_bindings(StructGenerator, &mut x).unwrap();
     let mut e = fs::File::create(out.join("egl_bindings.rs")).unwrap();
     egl.write_bindings(StructGenerator, &mut e).unwrap();
+}
+
+/// The layer's own calls that give the GPU work (draws, dispatches, clears, blits, copies) or
+/// read back to the CPU count themselves (`log::counts`, `--gpu-counts`): the counting is put
+/// into the generated table's methods, so no call site of the layer can be missed.
+fn count_gpu_work(bindings: &str) -> String {
+    let mut out = String::with_capacity(bindings.len() + 4096);
+    for line in bindings.split_inclusive('\n') {
+        let name = line
+            .split_once("pub unsafe fn ")
+            .and_then(|(_, rest)| rest.split_once('('))
+            .map(|(name, _)| name);
+        let count = match name {
+            Some("ReadPixels") => {
+                Some("crate::log::counts::read_back(crate::log::counts::pixel_bytes(width, height, format, type_));")
+            }
+            Some("GetBufferSubData") => Some("crate::log::counts::read_back(size as u64);"),
+            Some(n) if is_gpu_work(n) => Some("crate::log::counts::layer_call();"),
+            _ => None,
+        };
+        match (count, line.find(") -> () { ")) {
+            (Some(count), Some(at)) => {
+                let body = at + ") -> () { ".len();
+                out.push_str(&line[..body]);
+                out.push_str(count);
+                out.push(' ');
+                out.push_str(&line[body..]);
+            }
+            _ => out.push_str(line),
+        }
+    }
+    out
+}
+
+fn is_gpu_work(name: &str) -> bool {
+    let draw = name.starts_with("Draw") && !name.starts_with("DrawBuffer");
+    let prefixed = [
+        "MultiDraw",
+        "DispatchCompute",
+        "ClearBuffer",
+        "ClearTex",
+        "ClearNamedFramebuffer",
+        "Blit",
+        "CopyTex",
+        "CopyImageSubData",
+    ]
+    .iter()
+    .any(|p| name.starts_with(p));
+    draw || prefixed || matches!(name, "Clear" | "CallList" | "CallLists" | "End")
 }
 
 fn api_of(name: &str) -> (&'static str, &str) {

@@ -59,6 +59,8 @@ pub struct Settings {
     pub overlay: bool,
     /// `--dump-disparity`: with `--dump`, each dumped frame's per-pixel disparity too.
     pub dump_disparity: bool,
+    /// `--gpu-counts`: count per frame what the GPU is given, reported at exit.
+    pub gpu_counts: bool,
     /// `--hotkeys`: the modifiers of the layer's key grabs (`None`: off).
     pub hotkeys: Option<Vec<String>>,
     pub view: ViewSettings,
@@ -74,6 +76,7 @@ impl Default for Settings {
             osmesa_boundary: Boundary::Finish,
             overlay: false,
             dump_disparity: false,
+            gpu_counts: false,
             hotkeys: parse::hotkeys(parse::DEFAULT_HOTKEYS).unwrap_or_default(),
             view: ViewSettings::default(),
         }
@@ -130,6 +133,7 @@ impl Settings {
                 "tile" => tile = parse::grid(&value).ok(),
                 "overlay" => s.overlay = parse::switch(&value).unwrap_or(false),
                 "dump-disparity" => s.dump_disparity = parse::switch(&value).unwrap_or(false),
+                "gpu-counts" => s.gpu_counts = parse::switch(&value).unwrap_or(false),
                 "hotkeys" => s.hotkeys = parse::hotkeys(&value).unwrap_or_default(),
                 "frame-budget" => budget = parse::frame_budget(&value).ok().map(|b| (b, var)),
                 "depth-remap" => comfort.remap = comfort::depth_remap(&value).ok(),

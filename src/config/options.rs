@@ -98,6 +98,8 @@ pub static OPTIONS: &[OptDef] = &[
         super::parse::record_path),
     opt("exit-after", "N", "exit the program (status 0) right after frame N is presented and dumped",
         |v| super::parse::frame_number(v).map(|_| ())),
+    OptDef { long: "gpu-counts", value: "", help: "count per frame what the GPU is given: the program's draws, draws submitted (replays and the layer's own passes), fragment and compute invocations (pipeline-statistics queries), bytes read back; medians at info when --exit-after ends the run",
+        check: |v| super::parse::switch(v).map(|_| ()), launcher_only: false },
     opt("osmesa-boundary", "finish|flush", "call that ends a frame for OSMesa contexts, which never swap (default finish)",
         |v| super::parse::boundary(v).map(|_| ())),
     OptDef { long: "overlay", value: "", help: "draw the live values into the presented image for two seconds after each change (holoinject ctl, hotkeys)",

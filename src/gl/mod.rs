@@ -31,6 +31,7 @@ pub use info::GlInfo;
 pub mod pbo;
 pub mod program;
 pub mod readback;
+pub mod stats_query;
 
 /// A context's GL table, shared between the threads that make the context current.
 pub struct SharedGl(pub Gl);

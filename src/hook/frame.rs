@@ -52,7 +52,9 @@ pub fn boundary(surface: usize, present: impl FnOnce()) {
         log::info(format_args!("live: frame {frame} dumped into {dir}"));
         live::dump_done(frame, result.map_err(|e| format!("frame {frame} not dumped: {e}")));
     }
+    super::gpu_counts::end_frame(frame, measured);
     present();
+    super::gpu_counts::begin_frame(frame);
     if settings.exit_after == Some(frame) {
         exit_after(frame);
     }
@@ -163,7 +165,11 @@ fn overlay_lines(settings: &Settings, frame: u64) -> Vec<String> {
 
 fn exit_after(frame: u64) -> ! {
     crate::output::record::finish();
-    for line in [timing::summary(), log::costs::summary()].into_iter().flatten() {
+    let counts = crate::config::settings()
+        .gpu_counts
+        .then(log::counts::summary)
+        .flatten();
+    for line in [timing::summary(), log::costs::summary(), counts].into_iter().flatten() {
         log::info(format_args!("{line}"));
     }
     log::info(format_args!(

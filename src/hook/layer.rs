@@ -14,6 +14,9 @@ pub struct Layer {
     pub presenter: Presenter,
     /// The generation of live values (`config::live`) applied to `views.settings`.
     pub live_generation: u64,
+    /// `--gpu-counts`: the frame's statistics queries (`None` until the first frame; then
+    /// `Some(None)` where the driver has none).
+    pub gpu_stats: Option<Option<crate::gl::stats_query::FrameStats<crate::log::counts::FrameCounts>>>,
 }
 
 impl ContextLayer for Layer {
@@ -90,6 +93,7 @@ pub fn on_make_current() {
                 views: Multiview::new(*info, settings.view.clone(), window),
                 presenter: Presenter::default(),
                 live_generation: 0,
+                gpu_stats: None,
             })
         });
         if let Some(layer) = slot.as_any_mut().downcast_mut::<Layer>() {

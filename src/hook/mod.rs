@@ -13,6 +13,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 pub mod census;
 pub mod dl;
 pub mod frame;
+mod gpu_counts;
 pub(crate) mod handlers;
 pub mod layer;
 

@@ -4,6 +4,7 @@
 //! `dlsym`, before Rust's runtime helpers are safe to initialise.
 
 pub mod costs;
+pub mod counts;
 
 use std::fmt::Arguments;
 use std::io::Write;

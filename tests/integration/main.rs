@@ -18,6 +18,7 @@ mod convergence;
 mod device_window;
 mod fbo_scale;
 mod forced_failures;
+mod gpu_counts;
 mod launcher;
 mod layer_library;
 mod live_controls;

@@ -38,6 +38,8 @@ pub const SINGLE: u32 = u32::MAX;
 /// per-view work of their own (raster positions).
 pub fn draw_views(gl: &Gl, app: &mut AppState, mv: &mut Multiview, group: &ShareGroup, f: impl Fn(u32)) {
     let _costs = crate::log::costs::draw();
+    crate::log::counts::app_draw();
+    let f = |i| crate::log::counts::replay(|| f(i));
     let replayed = !mv.failed && !app.compiling_list && !captures_once(gl, app);
     let Some(layout) = mv.layout().filter(|_| replayed) else {
         return draw_single(gl, app, mv, group, || f(SINGLE));
