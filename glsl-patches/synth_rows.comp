@@ -59,23 +59,54 @@ bool nearer(float a, float b)
     return u_reversed == 1 ? a >= b : a <= b;
 }
 
+// 1: a target's second source only fills what its preferred (nearer) source left as holes,
+// so the two are never mixed on one surface (a depth test between two sources' samples of one
+// surface picks either by a hair, in streaks: hybrid's views beside a rendered one were worse
+// than synth's). 0 under --reuse, whose kept views fill those holes better than a far
+// source does (measured: the rule took --reuse-motion's gain away).
+uniform int u_second_fills_holes;
+// Scanning the second source; its solid writes carry bit 30 (never set in a depth in [0, 1])
+// until `row_done` clears it, so that its own pixels still depth-test against each other.
+bool second;
+const uint HOLE = 0x80000000u;
+const uint SECOND = 0x40000000u;
+
 void put(int x, vec4 c, float z, bool hole)
 {
     int i = out_base + x;
-    if (nearer(z, abs(out_pixels[i].depth))) {
-        out_pixels[i].depth = hole ? uintBitsToFloat(floatBitsToUint(z) | 0x80000000u) : z;
+    uint e = floatBitsToUint(out_pixels[i].depth);
+    float was = uintBitsToFloat(e & ~(HOLE | SECOND));
+    bool write;
+    if (!second) {
+        write = nearer(z, was);
+    } else if ((e & HOLE) != 0u) {
+        write = !hole || nearer(z, was);
+    } else {
+        write = (e & SECOND) != 0u && !hole && nearer(z, was);
+    }
+    if (write) {
+        uint mark = hole ? HOLE : (second ? SECOND : 0u);
+        out_pixels[i].depth = uintBitsToFloat(floatBitsToUint(z) | mark);
         out_pixels[i].color = packUnorm4x8(c);
     }
 }
 
-// The row's pixels left filled over holes, into the frame's count.
-void count_holes()
+// The second source's marks cleared (its solid pixels are solid pixels), and the row's
+// holes counted into the frame's when asked.
+void row_done(bool marked)
 {
+    if (!marked && u_count_holes == 0) {
+        return;
+    }
     uint n = 0u;
     for (int x = 0; x < width; x++) {
-        n += floatBitsToUint(out_pixels[out_base + x].depth) >> 31;
+        uint e = floatBitsToUint(out_pixels[out_base + x].depth);
+        if ((e & SECOND) != 0u) {
+            out_pixels[out_base + x].depth = uintBitsToFloat(e & ~SECOND);
+        }
+        n += e >> 31;
     }
-    if (n != 0u) {
+    if (n != 0u && u_count_holes == 1) {
         atomicAdd(holes, n);
     }
 }
@@ -161,11 +192,22 @@ void main()
         out_pixels[out_base + x] = Out(0u, far);
     }
     Target t = targets[layer];
-    if (t.src.z == 2) {
-        scan(t.src.x, t.du.x);
-    }
-    scan(t.src.y, t.du.y);
-    if (u_count_holes == 1) {
-        count_holes();
+    bool two = t.src.z == 2;
+    if (u_second_fills_holes == 1) {
+        second = false;
+        scan(t.src.y, t.du.y);
+        second = two;
+        if (two) {
+            scan(t.src.x, t.du.x);
+        }
+        row_done(two);
+    } else {
+        // Both depth-tested alike: nearer wins whichever source it came from.
+        second = false;
+        if (two) {
+            scan(t.src.x, t.du.x);
+        }
+        scan(t.src.y, t.du.y);
+        row_done(false);
     }
 }

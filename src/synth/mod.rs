@@ -83,6 +83,9 @@ pub struct Job<'a> {
     /// Count the pixels filled over holes (`Synthesizer::hole_fraction`; the row warp only,
     /// on frames measured against exact).
     pub count_holes: bool,
+    /// A target's second source only fills its preferred source's holes (the row warp; off
+    /// under --reuse, whose kept views fill them).
+    pub second_fills_holes: bool,
     /// Splat every pixel and fill the holes (`synth:pixel`) instead of warping the grid.
     pub per_pixel: bool,
 }

@@ -215,6 +215,7 @@ fn warp_rows(pass: &Pass, programs: &RowPrograms, out: &RowTargets, job: &Job) {
         gl.Uniform2i(loc(gl, p, "u_tile"), job.tile.0, job.tile.1);
         gl.Uniform1i(loc(gl, p, "u_targets"), params.len() as i32);
         gl.Uniform1i(loc(gl, p, "u_count_holes"), job.count_holes as i32);
+        gl.Uniform1i(loc(gl, p, "u_second_fills_holes"), job.second_fills_holes as i32);
         gl.Uniform2f(
             loc(gl, p, "u_px"),
             (job.depthiness * px) as f32,

@@ -256,6 +256,7 @@ fn try_warp(gl: &Gl, mv: &mut Multiview, kept: &[u32]) -> Result<(), String> {
         rows: mv.settings.synth_warp == crate::config::SynthWarp::Rows,
         gather: mv.settings.synth_warp == crate::config::SynthWarp::Gather,
         count_holes: mv.measure.is_some() && mv.plan.all,
+        second_fills_holes: !mv.settings.reuse,
         per_pixel: mv.plan.per_pixel,
     };
     if !ANNOUNCED.swap(true, std::sync::atomic::Ordering::Relaxed) {
