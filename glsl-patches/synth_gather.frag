@@ -16,6 +16,12 @@
 // half a pixel on its side, and the gap opening between them (a disocclusion) is filled with
 // the farther of the two — the first pixel, walking the other way, that lands beyond this
 // one — pushed back in depth so that anything drawn later tests as it would.
+//
+// Most pixels lie inside a piece whose source pixels are found directly: s = c - ½ - a·p - b
+// with p the parallax under c, then once more with the parallax found (`quick`). Such a
+// piece is what the walk would find when no pixel before it in walk order can land over it:
+// each packed pixel carries how far a view may move before one can (synth_gather_reach.comp).
+// Only the rest (depth edges, disocclusions, what that bound cannot vouch for) walk.
 uniform usampler2DArray u_packed;
 uniform sampler2DArray u_bounds;
 // Levels of the bounds (the top one is one texel per row) and each level's x offset.
@@ -79,6 +85,53 @@ bool covers(int layer, int s, float c, float a, float b, out vec4 color, out flo
         }
     }
     return c < x0 + 0.5;
+}
+
+// The source pixel whose piece should hold c, if the parallax around it were p.
+int aim(float p, float c, float a, float b)
+{
+    return clamp(int(floor(c - 0.5 - a * p - b)), 0, u_width - 2);
+}
+
+// 1: c lies inside the piece [s, s+1] and nothing before it in walk order can land over it
+// (color and z set); 0: not inside it (s moved to the next guess); -1: the walk decides.
+int piece(int layer, inout int s, float c, float a, float b, out vec4 color, out float z)
+{
+    uvec4 q0 = pixel(layer, s), q1 = pixel(layer, s + 1);
+    float p0 = parallax(q0), p1 = parallax(q1);
+    float x0 = float(s) + 0.5 + a * p0 + b;
+    float x1 = float(s) + 1.5 + a * p1 + b;
+    if (!(abs(a * (p1 - p0)) <= u_threshold)) {
+        return -1;
+    }
+    if (c < x0 || c >= x1) {
+        s = aim(c < x0 ? p0 : p1, c, a, b);
+        return 0;
+    }
+    float safe = a >= 0.0 ? unpackHalf2x16(q1.w).x : unpackHalf2x16(q0.w).y;
+    if (!(abs(a) <= safe)) {
+        return -1;
+    }
+    float t = clamp((c - x0) / max(x1 - x0, 1.0e-6), 0.0, 1.0);
+    color = mix(unpackUnorm4x8(q0.z), unpackUnorm4x8(q1.z), t);
+    z = mix(uintBitsToFloat(q0.y), uintBitsToFloat(q1.y), t);
+    return 1;
+}
+
+// The piece holding c found without a walk, when it can be trusted.
+bool quick(int layer, float a, float b, float c, out vec4 color, out float z)
+{
+    if (u_width < 2) {
+        return false;
+    }
+    int s = aim(parallax(pixel(layer, clamp(int(c), 0, u_width - 1))), c, a, b);
+    for (int i = 0; i < 2; i++) {
+        int r = piece(layer, s, c, a, b, color, z);
+        if (r != 0) {
+            return r == 1;
+        }
+    }
+    return false;
 }
 
 // Whether block i of level l (pixels [i·2^l, (i+1)·2^l)) cannot land on c: all of it lands
@@ -182,6 +235,11 @@ void main()
     vec4 color;
     float z;
     int dir = v_ab.x >= 0.0 ? 1 : -1;
+    if (quick(v_src.x, v_ab.x, v_ab.y, c, color, z)) {
+        o_color = color;
+        gl_FragDepth = z;
+        return;
+    }
     if (!walk(v_src.x, v_ab.x, v_ab.y, c, dir, color, z)) {
         int dir2 = v_ab.z >= 0.0 ? 1 : -1;
         if (v_src.z < 2 || !walk(v_src.y, v_ab.z, v_ab.w, c, dir2, color, z)) {

@@ -3,7 +3,8 @@
 //! `../shared/tools/fill-floor.c`). Each target pixel finds what lands on it by walking its
 //! source row in visibility order, skipping blocks with a per-row min/max parallax hierarchy;
 //! all targets are one instanced draw. Per source, once per frame: the pixels packed for
-//! one fetch each, and the hierarchy.
+//! one fetch each, the hierarchy, and per pixel how far a view may move before another
+//! pixel can cover it, which lets most target pixels take the piece they aim at directly.
 //!
 //! Same rule as the row warp (pieces, depth edges, disocclusions filled from the far side),
 //! without its storage, its resolve pass or its hole count: holes are not marked, so
@@ -16,6 +17,7 @@ use crate::gl::*;
 
 const PACK_COMP: &str = include_str!("../../glsl-patches/synth_gather_pack.comp");
 const BOUNDS_COMP: &str = include_str!("../../glsl-patches/synth_gather_bounds.comp");
+const REACH_COMP: &str = include_str!("../../glsl-patches/synth_gather_reach.comp");
 const GATHER_VERT: &str = include_str!("../../glsl-patches/synth_gather.vert");
 const GATHER_FRAG: &str = include_str!("../../glsl-patches/synth_gather.frag");
 /// Window depth between a disocclusion fill and the surface it stretches (as the row warp).
@@ -27,6 +29,7 @@ const MAX_LEVELS: usize = 15;
 pub struct GatherPrograms {
     pack: u32,
     bounds: u32,
+    reach: u32,
     warp: u32,
 }
 
@@ -37,13 +40,15 @@ impl GatherPrograms {
                 .map_err(|e| format!("synthesis gather packing pass: {e}"))?,
             bounds: crate::gl::program::link_compute(gl, BOUNDS_COMP)
                 .map_err(|e| format!("synthesis gather bounds pass: {e}"))?,
+            reach: crate::gl::program::link_compute(gl, REACH_COMP)
+                .map_err(|e| format!("synthesis gather reach pass: {e}"))?,
             warp: crate::gl::program::link(gl, info, GATHER_VERT, GATHER_FRAG)
                 .map_err(|e| format!("synthesis gather pass: {e}"))?,
         })
     }
 
-    pub fn names(&self) -> [u32; 3] {
-        [self.pack, self.bounds, self.warp]
+    pub fn names(&self) -> [u32; 4] {
+        [self.pack, self.bounds, self.reach, self.warp]
     }
 }
 
@@ -70,6 +75,8 @@ pub struct GatherStorage {
     tile: (i32, i32),
     sources: usize,
     count: usize,
+    /// The packed pixels without their reach, which the bounds are made from.
+    staged: u32,
     packed: u32,
     bounds: u32,
     params: u32,
@@ -92,6 +99,7 @@ impl GatherStorage {
             tile,
             sources,
             count,
+            staged: array(gl, RGBA32UI, tile, sources, NEAREST),
             packed: array(gl, RGBA32UI, tile, sources, NEAREST),
             bounds: array(gl, RG32F, (width, tile.1), sources, NEAREST),
             params: buffer(gl, (count.max(1) * std::mem::size_of::<Params>()) as isize),
@@ -102,8 +110,8 @@ impl GatherStorage {
         self.tile == tile && self.sources == sources && self.count == count
     }
 
-    pub fn textures(&self) -> [u32; 2] {
-        [self.packed, self.bounds]
+    pub fn textures(&self) -> [u32; 3] {
+        [self.staged, self.packed, self.bounds]
     }
 
     pub fn buffers(&self) -> [u32; 1] {
@@ -113,7 +121,7 @@ impl GatherStorage {
     pub fn delete(&self, gl: &Gl) {
         // SAFETY: deleting our own objects.
         unsafe {
-            gl.DeleteTextures(2, self.textures().as_ptr());
+            gl.DeleteTextures(3, self.textures().as_ptr());
             gl.DeleteBuffers(1, &self.params);
         }
     }
@@ -129,6 +137,8 @@ pub fn run(pass: &Pass, programs: &GatherPrograms, out: &GatherStorage, job: &Jo
         profile.lap("parallax");
         pack(pass, programs, out, j);
         profile.lap("pack+bounds");
+        reach(pass, programs, out, j, largest_move(job, j));
+        profile.lap("reach");
     }
     gather(pass, programs, out, job);
     profile.lap("gather");
@@ -152,13 +162,13 @@ fn pack(pass: &Pass, programs: &GatherPrograms, out: &GatherStorage, j: usize) {
         gl.Uniform1i(loc(gl, p, "u_parallax"), 2);
         gl.Uniform1i(loc(gl, p, "u_layer"), j as i32);
         gl.Uniform2i(loc(gl, p, "u_tile"), tw, th);
-        gl.BindImageTexture(0, out.packed, 0, TRUE, 0, WRITE_ONLY, RGBA32UI);
+        gl.BindImageTexture(0, out.staged, 0, TRUE, 0, WRITE_ONLY, RGBA32UI);
         gl.Uniform1i(loc(gl, p, "u_packed"), 0);
         gl.DispatchCompute((tw as u32).div_ceil(8), (th as u32).div_ceil(8), 1);
         gl.MemoryBarrier(TEXTURE_FETCH_BARRIER_BIT | SHADER_IMAGE_ACCESS_BARRIER_BIT);
         let b = programs.bounds;
         gl.UseProgram(b);
-        pass.bind_array(3, out.packed);
+        pass.bind_array(3, out.staged);
         gl.Uniform1i(loc(gl, b, "u_packed"), 3);
         gl.BindImageTexture(1, out.bounds, 0, TRUE, 0, READ_WRITE, RG32F);
         gl.Uniform1i(loc(gl, b, "u_bounds"), 1);
@@ -174,6 +184,43 @@ fn pack(pass: &Pass, programs: &GatherPrograms, out: &GatherStorage, j: usize) {
             gl.MemoryBarrier(SHADER_IMAGE_ACCESS_BARRIER_BIT | TEXTURE_FETCH_BARRIER_BIT);
             below = (offset, n);
         }
+    }
+}
+
+/// The largest |a| (pixels of move per unit of parallax) of the views warped from source `j`
+/// first.
+fn largest_move(job: &Job, j: usize) -> f32 {
+    let px = job.tile.0 as f64 / 2.0;
+    job.targets
+        .iter()
+        .filter(|t| t.sources[0] == j)
+        .map(|t| ((t.u - job.sources[j].u) * job.depthiness * px).abs() as f32)
+        .fold(0.0, f32::max)
+}
+
+/// Source `j`'s packed pixels with their reach (synth_gather_reach.comp), for views moving at
+/// most `largest` pixels per unit of parallax.
+fn reach(pass: &Pass, programs: &GatherPrograms, out: &GatherStorage, j: usize, largest: f32) {
+    let gl = pass.gl;
+    let _images = crate::gl::guard::StateGuard::new(gl, pass.info).images(0..1);
+    let (tw, th) = pass.res.tile;
+    let top = levels(tw).last().map_or(0, |l| l.0);
+    let p = programs.reach;
+    // SAFETY: our program and textures; bindings are restored by the caller's guard.
+    unsafe {
+        gl.UseProgram(p);
+        pass.bind_array(3, out.staged);
+        pass.bind_array(0, out.bounds);
+        gl.Uniform1i(loc(gl, p, "u_staged"), 3);
+        gl.Uniform1i(loc(gl, p, "u_bounds"), 0);
+        gl.Uniform1i(loc(gl, p, "u_layer"), j as i32);
+        gl.Uniform2i(loc(gl, p, "u_tile"), tw, th);
+        gl.Uniform1i(loc(gl, p, "u_top"), top);
+        gl.Uniform1f(loc(gl, p, "u_reach"), largest);
+        gl.BindImageTexture(0, out.packed, 0, TRUE, 0, WRITE_ONLY, RGBA32UI);
+        gl.Uniform1i(loc(gl, p, "u_packed"), 0);
+        gl.DispatchCompute((tw as u32).div_ceil(64), th as u32, 1);
+        gl.MemoryBarrier(TEXTURE_FETCH_BARRIER_BIT | SHADER_IMAGE_ACCESS_BARRIER_BIT);
     }
 }
 
