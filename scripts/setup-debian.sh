@@ -4,7 +4,7 @@
 # (mesa-utils, glmark2, chromium-bsu, extremetuxracer: a sky box around the eye, openarena: a
 # first-person weapon in id Tech 3's depth-range hack, minetest: a voxel game through Irrlicht,
 # shaders on and off, f3d: a VTK viewer, xscreensaver's GL hacks), apitrace (deterministic
-# replays), hyperfine (benchmarks), ffmpeg (--record, holoinject quilt of a video) and xdotool
+# replays), hyperfine (benchmarks), python3-pip (NVIDIA's FLIP from PyPI for bench-trade), ffmpeg (--record, holoinject quilt of a video) and xdotool
 # (the live-control hotkey test, driving Extreme Tux Racer's menus).
 set -euo pipefail
 
@@ -13,7 +13,7 @@ packages=(
   libgl1-mesa-dri libglx-mesa0 libegl-mesa0 libgl-dev libegl-dev libgles-dev libx11-dev libosmesa6-dev
   mesa-utils mesa-utils-bin glmark2-x11 glmark2-es2-x11
   apitrace apitrace-tracers chromium-bsu extremetuxracer openarena f3d xscreensaver-gl
-  glslang-tools hyperfine python3-numpy python3-matplotlib python3-pil
+  glslang-tools hyperfine python3-numpy python3-matplotlib python3-pil python3-pip
   ffmpeg minetest
   xdotool
 )
@@ -33,6 +33,9 @@ if [ ${#missing[@]} -gt 0 ]; then
   $sudo apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
+# NVIDIA's FLIP for scripts/bench-trade.py is on PyPI only; the tests do not need it, so a
+# failure (no python3-pip, no network) only warns.
+python3 -c 'import flip_evaluator' 2>/dev/null || $sudo python3 -m pip install -q --break-system-packages flip-evaluator >/dev/null 2>&1 || echo "setup: warning: pip could not install flip-evaluator (python3-pip installed?): scripts/bench-trade.py reports no FLIP" >&2
 
 if ! command -v cargo >/dev/null; then
   echo "setup: Rust is missing: install it with rustup (https://rustup.rs); Debian's cargo is too old for edition 2024" >&2
