@@ -110,6 +110,17 @@ HEADER = ["scene", "N", "tile", "mode", "ms/frame", "speed-up vs exact", "PSNR m
           "fragments (M)", "tile-equivalents", "read back"]
 
 
+def renderer(a):
+    """The GL renderer the sample apps got (their HOLOAPPS_VERBOSE line), or what is known."""
+    try:
+        r = subprocess.run([os.path.join(a.bin, "cubes"), "--backend", a.backend, "--size", "64x64", "--frames", "1"],
+                           capture_output=True, text=True, timeout=60, env={**os.environ, "HOLOAPPS_VERBOSE": "1"})
+        line = r.stderr.strip().splitlines()[0] if r.stderr.strip() else ""
+        return line.partition(": ")[2].split(" (depth")[0] or "GL renderer unknown"
+    except (OSError, subprocess.SubprocessError):
+        return "GL renderer unknown"
+
+
 def header_text(a, elapsed, frame):
     """The paragraphs above the table: what ran, and every column's definition."""
     rev = subprocess.run(["git", "-C", ROOT, "describe", "--always", "--dirty"], capture_output=True, text=True).stdout.strip() or "?"
@@ -122,7 +133,7 @@ def header_text(a, elapsed, frame):
         counts += "; flip-evaluator not installed: FLIP n/a"
     return [
         f"Speed/accuracy trade of the fast modes (scripts/bench-trade.py, tree at {rev}, {time.strftime('%Y-%m-%d')}; "
-        f"command: `scripts/bench-trade.py {' '.join(a.argv)}`): Mesa llvmpipe, {os.cpu_count()} cores shared with other "
+        f"command: `scripts/bench-trade.py {' '.join(a.argv)}`): {renderer(a)}, {os.cpu_count()} CPU cores shared with other "
         f"work (absolute times are noisy; read the ratios). `--output quilt`, default depthiness{extra}; sample apps on "
         f"headless {a.backend} (`--backend {a.backend}`, window = one tile), real programs as apitrace replays (`glretrace`, "
         f"their own window size) on Xvfb; {counts}. Took {elapsed / 60:.0f} min.",

@@ -12,6 +12,7 @@
 use crate::util::*;
 use std::path::Path;
 
+mod egl_device;
 mod window_formats;
 
 const FRAMES: &str = "3";

@@ -6,6 +6,8 @@ use std::path::PathBuf;
 pub enum Backend {
     Glx,
     Egl,
+    /// Headless EGL on a device (EGL_EXT_platform_device), as on NVIDIA without X.
+    EglDevice,
     EglX11,
     OsMesa,
 }
@@ -15,9 +17,10 @@ impl Backend {
         Ok(match s {
             "glx" => Backend::Glx,
             "egl" => Backend::Egl,
+            "egl-device" => Backend::EglDevice,
             "egl-x11" => Backend::EglX11,
             "osmesa" => Backend::OsMesa,
-            _ => return Err(format!("unknown backend '{s}' (glx|egl|egl-x11|osmesa)")),
+            _ => return Err(format!("unknown backend '{s}' (glx|egl|egl-device|egl-x11|osmesa)")),
         })
     }
 }
@@ -122,7 +125,7 @@ fn parse_num<T: std::str::FromStr>(flag: &str, v: &str) -> Result<T, String> {
 pub fn usage(app: &AppInfo) -> String {
     let mut s = format!(
         "{name} - {about}\n\nUSAGE: {name} [OPTIONS]\n\n\
-         --backend B            glx | egl | egl-x11 | osmesa (default glx)\n\
+         --backend B            glx | egl | egl-device | egl-x11 | osmesa (default glx)\n\
          --size WxH             window / framebuffer size (default 640x480)\n\
          --frames N             render N frames then exit (default 0 = until killed)\n\
          --screenshot PATH      PNG of the last frame's default framebuffer\n\
@@ -139,8 +142,8 @@ pub fn usage(app: &AppInfo) -> String {
          --bench-quilt          render the reference quilt every frame (benchmark; implies --timing)\n\
          --timing               print the median frame time to stderr at exit\n\
          --debug-output         count GL errors via KHR_debug; print `gl-debug: errors=N` at exit\n\
-         --samples N            multisampled default framebuffer, N samples (glx, egl, egl-x11)\n\
-         --no-alpha             default framebuffer without alpha bits (glx, egl, egl-x11)\n\
+         --samples N            multisampled default framebuffer, N samples (not osmesa)\n\
+         --no-alpha             default framebuffer without alpha bits (not osmesa)\n\
          --srgb                 draw with GL_FRAMEBUFFER_SRGB enabled (desktop GL)\n\
          --freeze F[:G]         frames F..G (counted from 0; G omitted: every frame from F on) draw\n\
                                 frame F again, then time resumes where it stopped: a still scene\n",

@@ -204,9 +204,9 @@ impl Scene for Gles {
 
 /// ES contexts come from EGL only (see platform::create).
 fn profile(o: &Options) -> Result<Profile, String> {
-    if !matches!(o.backend, Backend::Egl | Backend::EglX11) {
+    if !matches!(o.backend, Backend::Egl | Backend::EglX11 | Backend::EglDevice) {
         return Err(format!(
-            "gles runs on --backend egl or egl-x11 only, not {:?}",
+            "gles runs on --backend egl, egl-x11 or egl-device only, not {:?}",
             o.backend
         ));
     }

@@ -1,6 +1,12 @@
 //! EGL back-end. libEGL is dlopen'ed RTLD_LOCAL at run time, the way SDL and
 //! GLFW do it, so the layer must catch it through dlsym/eglGetProcAddress
-//! rather than through link-time symbols.
+//! rather than through link-time symbols. Headless displays: `device`.
+mod device;
+mod headless;
+
+pub use device::Headless;
+pub use headless::{Handle, HeadlessDisplay};
+
 use super::x11win::{XWindow, open_display};
 use super::{Platform, Profile, WindowConfig};
 use libloading::os::unix::{Library, RTLD_LOCAL, RTLD_NOW};
@@ -30,12 +36,12 @@ const EGL_CONTEXT_MAJOR_VERSION: EglInt = 0x3098;
 const EGL_CONTEXT_MINOR_VERSION: EglInt = 0x30FB;
 const EGL_CONTEXT_OPENGL_PROFILE_MASK: EglInt = 0x30FD;
 const EGL_PLATFORM_X11_KHR: u32 = 0x31D5;
-const EGL_PLATFORM_SURFACELESS_MESA: u32 = 0x31DD;
 
 struct Api {
     _lib: Library,
     get_proc_address: unsafe extern "C" fn(*const c_char) -> *const c_void,
     get_error: unsafe extern "C" fn() -> EglInt,
+    query_string: unsafe extern "C" fn(Ptr, EglInt) -> *const c_char,
     initialize: unsafe extern "C" fn(Ptr, *mut EglInt, *mut EglInt) -> u32,
     bind_api: unsafe extern "C" fn(u32) -> u32,
     choose_config: unsafe extern "C" fn(Ptr, *const EglInt, *mut Ptr, EglInt, *mut EglInt) -> u32,
@@ -62,6 +68,7 @@ impl Api {
         Ok(Api {
             get_proc_address: sym!("eglGetProcAddress"),
             get_error: sym!("eglGetError"),
+            query_string: sym!("eglQueryString"),
             initialize: sym!("eglInitialize"),
             bind_api: sym!("eglBindAPI"),
             choose_config: sym!("eglChooseConfig"),
@@ -108,7 +115,7 @@ pub struct Egl {
     surface: Ptr,
     ctx: Ptr,
     size: (u32, u32),
-    kind: &'static str,
+    kind: String,
     // Dropped after the EGL objects (see Drop).
     win: Option<XWindow>,
 }
@@ -152,17 +159,22 @@ fn context_attribs(profile: Profile) -> [EglInt; 7] {
 }
 
 impl Egl {
-    /// Surfaceless Mesa platform + pbuffer: needs no X server at all.
-    pub fn new_headless(size: (u32, u32), profile: Profile, config: WindowConfig) -> Result<Self, String> {
+    /// A headless display (surfaceless Mesa or a device) + pbuffer: needs no X server at all.
+    pub fn new_headless(
+        size: (u32, u32),
+        profile: Profile,
+        config: WindowConfig,
+        which: Headless,
+    ) -> Result<Self, String> {
         let api = Api::load()?;
-        let dpy = api.platform_display(EGL_PLATFORM_SURFACELESS_MESA, ptr::null_mut())?;
+        let (dpy, kind) = device::open(&api, which)?;
         let mut e = Egl {
             api,
             dpy,
             surface: ptr::null_mut(),
             ctx: ptr::null_mut(),
             size,
-            kind: "egl (surfaceless pbuffer)",
+            kind,
             win: None,
         };
         let cfg = e.init(EGL_PBUFFER_BIT, profile, config)?;
@@ -185,7 +197,7 @@ impl Egl {
             surface: ptr::null_mut(),
             ctx: ptr::null_mut(),
             size,
-            kind: "egl-x11",
+            kind: "egl-x11".into(),
             win: None,
         };
         let cfg = e.init(EGL_WINDOW_BIT, profile, config)?;
@@ -261,112 +273,6 @@ fn init_display(
     }
 }
 
-/// Several contexts and pbuffers on one headless (surfaceless Mesa) display,
-/// for apps that manage contexts and threads themselves (`twothreads`).
-/// EGL calls are thread-safe, so the display may be shared between threads.
-pub struct HeadlessDisplay {
-    api: Api,
-    dpy: Ptr,
-    cfg: Ptr,
-    profile: Profile,
-}
-
-/// An EGL context or surface handle.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Handle(Ptr);
-
-unsafe impl Send for Handle {}
-unsafe impl Sync for Handle {}
-unsafe impl Send for HeadlessDisplay {}
-unsafe impl Sync for HeadlessDisplay {}
-
-impl HeadlessDisplay {
-    pub fn new(profile: Profile) -> Result<Self, String> {
-        let api = Api::load()?;
-        let dpy = api.platform_display(EGL_PLATFORM_SURFACELESS_MESA, ptr::null_mut())?;
-        let cfg = init_display(&api, dpy, EGL_PBUFFER_BIT, profile, WindowConfig::default())?;
-        Ok(HeadlessDisplay { api, dpy, cfg, profile })
-    }
-
-    pub fn create_pbuffer(&self, size: (u32, u32)) -> Result<Handle, String> {
-        let attrs = [EGL_WIDTH, size.0 as EglInt, EGL_HEIGHT, size.1 as EglInt, EGL_NONE];
-        let s = unsafe { (self.api.create_pbuffer)(self.dpy, self.cfg, attrs.as_ptr()) };
-        if s.is_null() {
-            return Err(self.api.err("eglCreatePbufferSurface"));
-        }
-        Ok(Handle(s))
-    }
-
-    /// A context of the display's profile, in `share`'s share group if given.
-    pub fn create_context(&self, share: Option<Handle>) -> Result<Handle, String> {
-        let share = share.map_or(ptr::null_mut(), |h| h.0);
-        let attrs = context_attribs(self.profile);
-        let c = unsafe { (self.api.create_context)(self.dpy, self.cfg, share, attrs.as_ptr()) };
-        if c.is_null() {
-            return Err(self.api.err(&format!("eglCreateContext({:?})", self.profile)));
-        }
-        Ok(Handle(c))
-    }
-
-    /// Binds the profile's client API for the calling thread (eglBindAPI is
-    /// per thread), then makes `ctx` current on `surface`; None releases.
-    pub fn make_current(&self, target: Option<(Handle, Handle)>) -> Result<(), String> {
-        let (api, _, api_name) = api_for(self.profile);
-        let (s, c) = target.map_or((ptr::null_mut(), ptr::null_mut()), |(s, c)| (s.0, c.0));
-        unsafe {
-            if (self.api.bind_api)(api) == 0 {
-                return Err(self.api.err(&format!("eglBindAPI({api_name})")));
-            }
-            if (self.api.make_current)(self.dpy, s, s, c) == 0 {
-                return Err(self.api.err("eglMakeCurrent"));
-            }
-        }
-        Ok(())
-    }
-
-    /// Makes `ctx` current with no surface at all (EGL_KHR_surfaceless_context, which
-    /// the surfaceless platform always has): a resource-loading context with no
-    /// framebuffer 0 (`churn`'s root context).
-    pub fn make_current_surfaceless(&self, ctx: Handle) -> Result<(), String> {
-        let (api, _, api_name) = api_for(self.profile);
-        unsafe {
-            if (self.api.bind_api)(api) == 0 {
-                return Err(self.api.err(&format!("eglBindAPI({api_name})")));
-            }
-            if (self.api.make_current)(self.dpy, ptr::null_mut(), ptr::null_mut(), ctx.0) == 0 {
-                return Err(self.api.err("eglMakeCurrent(EGL_NO_SURFACE)"));
-            }
-        }
-        Ok(())
-    }
-
-    pub fn swap_buffers(&self, surface: Handle) -> Result<(), String> {
-        if unsafe { (self.api.swap_buffers)(self.dpy, surface.0) } == 0 {
-            return Err(self.api.err("eglSwapBuffers"));
-        }
-        Ok(())
-    }
-
-    pub fn get_proc_address(&self, name: &str) -> *const c_void {
-        let c = CString::new(name).unwrap();
-        unsafe { (self.api.get_proc_address)(c.as_ptr()) }
-    }
-
-    pub fn destroy_context(&self, ctx: Handle) {
-        unsafe { (self.api.destroy_context)(self.dpy, ctx.0) };
-    }
-
-    pub fn destroy_surface(&self, surface: Handle) {
-        unsafe { (self.api.destroy_surface)(self.dpy, surface.0) };
-    }
-}
-
-impl Drop for HeadlessDisplay {
-    fn drop(&mut self) {
-        unsafe { (self.api.terminate)(self.dpy) };
-    }
-}
-
 /// X window whose visual matches the EGL config.
 unsafe fn x_window_for(
     a: &Api,
@@ -405,7 +311,7 @@ impl Platform for Egl {
         self.size
     }
     fn describe(&self) -> String {
-        self.kind.into()
+        self.kind.clone()
     }
 }
 

@@ -9,6 +9,7 @@ mod glx;
 mod osmesa;
 mod x11win;
 
+use egl::Headless;
 pub use egl::{Handle as EglHandle, HeadlessDisplay as EglHeadlessDisplay};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -66,15 +67,18 @@ pub fn create_with(
 ) -> Result<Box<dyn Platform>, String> {
     // GLX and OSMesa can create ES contexts only through extensions that Mesa
     // does not offer everywhere; EGL is the standard way to get one.
-    if profile.is_es() && !matches!(backend, Backend::Egl | Backend::EglX11) {
-        return Err(format!("{profile:?} needs --backend egl or egl-x11 (got {backend:?})"));
+    if profile.is_es() && !matches!(backend, Backend::Egl | Backend::EglDevice | Backend::EglX11) {
+        return Err(format!(
+            "{profile:?} needs --backend egl, egl-device or egl-x11 (got {backend:?})"
+        ));
     }
     if backend == Backend::OsMesa && config != WindowConfig::default() {
-        return Err("--samples and --no-alpha need --backend glx, egl or egl-x11".into());
+        return Err("--samples and --no-alpha need --backend glx, egl, egl-device or egl-x11".into());
     }
     Ok(match backend {
         Backend::Glx => Box::new(glx::Glx::new(size, profile, config)?),
-        Backend::Egl => Box::new(egl::Egl::new_headless(size, profile, config)?),
+        Backend::Egl => Box::new(egl::Egl::new_headless(size, profile, config, Headless::Any)?),
+        Backend::EglDevice => Box::new(egl::Egl::new_headless(size, profile, config, Headless::Device)?),
         Backend::EglX11 => Box::new(egl::Egl::new_x11(size, profile, config)?),
         Backend::OsMesa => Box::new(osmesa::OsMesa::new(size, profile)?),
     })
