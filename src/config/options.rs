@@ -87,7 +87,7 @@ pub static OPTIONS: &[OptDef] = &[
         |v| super::parse::switch(v).map(|_| ())),
     opt("fbo-views", "auto|all|none", "which of the program's own framebuffers get a layer per view: auto (view-dependent passes; default), all, none",
         |v| super::parse::fbo_views(v).map(|_| ())),
-    opt("fbo-scale", "window|tile|F", "resolution of those layers: window (the program's own, default), tile (the window maps to the tile, never upscaled) or F in (0, 1] times the program's",
+    opt("fbo-scale", "window|tile|F", "resolution of those layers: tile (default: what the program draws at the window's size it draws at the tile's, never upscaled; framebuffers of a size of their own keep it), window (the program's own) or F in (0, 1] times the program's",
         |v| super::parse::fbo_scale(v).map(|_| ())),
     opt("dump", "DIR", "write presented frames (and quilts) as PNG into DIR", super::parse::nonempty),
     OptDef { long: "dump-disparity", value: "", help: "with --dump: also a false-colour PNG of each view's disparity, in pixels of the outermost view (f{frame}_disparity_qs{C}x{R}a{aspect}.png, legend below)",

@@ -16,6 +16,7 @@ use crate::util::*;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
+mod hdr;
 mod jellyfish;
 mod minetest;
 mod sky_box;

@@ -4,6 +4,8 @@
 //! One factor per context, the same for every framebuffer, so that a pass reading one
 //! scaled target and writing another maps both alike (a same-size blit stays same-size).
 //! A framebuffer keeps the app's size when:
+//! - something attached has a size of its own, not the window's or a halving of it
+//!   (`LayerScale::follows_window`): a reduction target, a shadow map, a lookup table;
 //! - something attached is multisampled: a multisampled image cannot be copied to or from
 //!   the app's object at another size;
 //! - a program addresses texels in pixels (`texelFetch`, image load/store, `gl_FragCoord`
@@ -33,12 +35,27 @@ pub fn context_scale(mv: &Multiview) -> LayerScale {
 /// The scale of a shadow over `attached`. When one of them must stay at the app's size, all
 /// of them are remembered so: an image shared with another framebuffer then has one scale
 /// there too, instead of being made again at each framebuffer's scale in turn.
-pub fn for_framebuffer(mv: &mut Multiview, attached: &[(GLenum, AppImage, Storage)]) -> LayerScale {
+pub fn for_framebuffer(mv: &mut Multiview, fbo: u32, attached: &[(GLenum, AppImage, Storage)]) -> LayerScale {
+    let scale = context_scale(mv);
     let full = attached
         .iter()
         .any(|(_, app, s)| s.samples > 0 || mv.full_size.contains(app));
-    if !full {
-        return context_scale(mv);
+    let window = mv.layout().map_or((0, 0), |l| (l.window_w, l.window_h));
+    let own = attached
+        .iter()
+        .find(|(_, _, s)| !LayerScale::follows_window((s.width, s.height), window));
+    if !full && (own.is_none() || scale.is_one()) {
+        return scale;
+    }
+    if let (Some((_, _, s)), false) = (own, scale.is_one()) {
+        crate::log::once_for(
+            ("fbo-scale", u64::from(fbo)),
+            crate::log::Level::Info,
+            format_args!(
+                "framebuffer {fbo}: layers at the program's size ({}x{} does not follow the {}x{} window: a size of its own)",
+                s.width, s.height, window.0, window.1
+            ),
+        );
     }
     mv.full_size.extend(attached.iter().map(|(_, app, _)| *app));
     LayerScale::ONE

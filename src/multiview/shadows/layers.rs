@@ -150,7 +150,7 @@ fn build(gl: &Gl, mv: &mut Multiview, fbo: u32) -> Result<Arc<[u32]>, String> {
         };
         checked.push((point, app, super::layered::storage(gl, app, target)?));
     }
-    let scale = super::downscale::for_framebuffer(mv, &checked);
+    let scale = super::downscale::for_framebuffer(mv, fbo, &checked);
     let (mut wanted, mut size) = (Vec::new(), (i32::MAX, i32::MAX));
     for (point, app, storage) in checked {
         let image = obtain(gl, mv, app, (storage, scale), point, n)?;

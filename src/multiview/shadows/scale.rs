@@ -12,10 +12,20 @@
 //! `shader::fragcoord::pixel_addressing`, `downscale`) keep their framebuffers' layers at the
 //! app's size.
 //!
+//! Only images whose size follows the window's are scaled: the window's size, or a chain of
+//! halvings of it (bloom's and blur's mip-like chains), rounded either way. An image of a
+//! size of its own (a 256x256 luminance target, a 1x1 average, a 2048² shadow map, a lookup
+//! table) is not part of the picture's resolution: scaling it would change what the program
+//! computes (OpenArena's auto-exposure went dark), so its framebuffer keeps the app's size.
+//!
 //! The factors are fixed per image when it is made: a later window resize changes what new
 //! images get, and each shadow maps with its own images' factors.
 
 use crate::config::FboScale;
+
+/// Halvings of the window an image may be and still count as following it (1/64: below, a
+/// chain ends in a few pixels that are the program's reduction, not its picture).
+const MAX_HALVINGS: u32 = 6;
 
 /// Factors from the app's framebuffer pixels to its layers' (each in (0, 1]).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -38,6 +48,17 @@ impl LayerScale {
             },
             FboScale::Factor(f) => LayerScale { sx: f, sy: f },
         }
+    }
+
+    /// Whether an image of `size` follows a window of `window`: the window's size divided by
+    /// 2^k (k ≤ MAX_HALVINGS), rounded down or up, in both directions with the same k.
+    pub fn follows_window(size: (i32, i32), window: (u32, u32)) -> bool {
+        let matches = |v: i32, w: u32, k: u32| {
+            let (w, d) = (i64::from(w), 1i64 << k);
+            let v = i64::from(v);
+            v == w / d || v == (w + d - 1) / d
+        };
+        (0..=MAX_HALVINGS).any(|k| matches(size.0, window.0, k) && matches(size.1, window.1, k))
     }
 
     pub fn is_one(self) -> bool {
@@ -93,6 +114,37 @@ mod tests {
         assert_eq!(s.size((801, 600)), (257, 256));
         assert_eq!(LayerScale::new(FboScale::Tile, (200, 100), (256, 256)), LayerScale::ONE);
         assert!(LayerScale::new(FboScale::Window, (800, 600), (256, 256)).is_one());
+    }
+
+    #[test]
+    fn images_follow_the_window_by_halvings_only() {
+        let w = (800, 600);
+        for size in [
+            (800, 600),
+            (400, 300),
+            (200, 150),
+            (100, 75),
+            (50, 38),
+            (50, 37),
+            (25, 19),
+            (13, 10),
+        ] {
+            assert!(LayerScale::follows_window(size, w), "{size:?}");
+        }
+        // Fixed sizes: a luminance target, a 1x1 average, a shadow map, mixed halvings.
+        for size in [
+            (256, 256),
+            (128, 128),
+            (1, 1),
+            (2048, 2048),
+            (400, 600),
+            (1600, 1200),
+            (799, 600),
+        ] {
+            assert!(!LayerScale::follows_window(size, w), "{size:?}");
+        }
+        assert!(LayerScale::follows_window((961, 541), (1921, 1081)));
+        assert!(LayerScale::follows_window((960, 540), (1921, 1081)));
     }
 
     #[test]

@@ -26,9 +26,9 @@ use crate::util::*;
 use std::path::Path;
 use std::time::Instant;
 
-const OPENARENA: &str = "/usr/games/openarena";
+pub(super) const OPENARENA: &str = "/usr/games/openarena";
 /// 640x480: at 800x600 the three replays took 97 s on this 2-core machine under load.
-const SCREEN: (u32, u32) = (640, 480);
+pub(super) const SCREEN: (u32, u32) = (640, 480);
 /// The frame looked at (from 1): the map is on screen from frame 31, faded in by 50; the
 /// weapon sways a little from frame to frame (the game's idle drift).
 const FRAME: u32 = 56;
@@ -56,7 +56,7 @@ const HYBRID_PSNR_DB: f64 = 30.0;
 
 /// The game's command line: windowed `SCREEN`, the opengl2 renderer, silent, no HUD, no
 /// intro, a map with cheats (no purity checks: the Debian paks), quit 80 frames after.
-fn game(home: &Path) -> Vec<String> {
+pub(super) fn game(home: &Path) -> Vec<String> {
     let mut argv = vec!["env".to_string(), format!("HOME={}", home.display()), OPENARENA.into()];
     let cvars = [
         ("cl_renderer", "opengl2".to_string()),
