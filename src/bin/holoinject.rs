@@ -69,7 +69,6 @@ fn launch(mut plan: Launch) -> Result<(), String> {
     let preset = chosen_preset(&plan, &program);
     cli::check_combinations(&plan, &|k| std::env::var(k).ok(), preset.as_ref().map(|c| &c.preset))?;
     let preload = cli::ld_preload_with(std::env::var_os("LD_PRELOAD").as_deref(), &lib.to_string_lossy());
-    plan.env.extend(cli::malloc_env(&|k| std::env::var_os(k).is_some()));
     if plan.dry_run {
         if let Some(c) = &preset {
             println!("# preset {} (by {})", c.preset.source, c.reason);

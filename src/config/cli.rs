@@ -97,19 +97,6 @@ pub fn check_combinations(
     super::parse::reuse_with(reuse, mode.unwrap_or(super::Mode::Exact))
 }
 
-/// glibc settings for the program, unless its environment sets them: with llvmpipe, the heap
-/// top is freed and grown again at every flush of a frame's rendering once the heap's layout
-/// lets it (an `sbrk` shrink, then page faults on the regrowth), which measured 2.2× the frame
-/// time of `cubes` under `--mode auto` (14.2 against 5.8 ms with these set). Keeping 256 MiB
-/// before trimming costs memory the program would have returned, never correctness.
-pub fn malloc_env(set: &dyn Fn(&str) -> bool) -> Vec<(String, String)> {
-    [("MALLOC_TRIM_THRESHOLD_", "268435456"), ("MALLOC_TOP_PAD_", "67108864")]
-        .into_iter()
-        .filter(|(k, _)| !set(k))
-        .map(|(k, v)| (k.to_string(), v.to_string()))
-        .collect()
-}
-
 /// `LD_PRELOAD` with `lib` appended once, keeping what is there (entries split on ':' or ' ').
 pub fn ld_preload_with(existing: Option<&OsStr>, lib: &str) -> String {
     let existing = existing.and_then(OsStr::to_str).unwrap_or("").trim();
@@ -181,14 +168,6 @@ mod tests {
         let l = parse_run(&args(&["--dry-run", "prog", "--dump", "x"])).unwrap();
         assert!(l.dry_run && l.env.is_empty());
         assert_eq!(l.args, args(&["--dump", "x"]));
-    }
-
-    #[test]
-    fn malloc_settings_leave_the_users_own_alone() {
-        let all = malloc_env(&|_| false);
-        assert_eq!(all.len(), 2);
-        let some = malloc_env(&|k| k == "MALLOC_TRIM_THRESHOLD_");
-        assert_eq!(some, vec![("MALLOC_TOP_PAD_".to_string(), "67108864".to_string())]);
     }
 
     #[test]

@@ -89,6 +89,7 @@ pub fn on_make_current() {
         let tracked = &mut *tracked;
         let Some(app) = tracked.app.as_ref() else { return };
         let slot = tracked.layer.get_or_insert_with(|| {
+            super::heap::tune_once();
             Box::new(Layer {
                 views: Multiview::new(*info, settings.view.clone(), window),
                 presenter: Presenter::default(),

@@ -15,6 +15,7 @@ pub mod dl;
 pub mod frame;
 mod gpu_counts;
 pub(crate) mod handlers;
+mod heap;
 pub mod layer;
 
 // Generated: its unsafe blocks are the shims' calls of the real functions, one pattern

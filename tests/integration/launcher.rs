@@ -107,6 +107,36 @@ fn missing_or_unloadable_layer_library_is_detected() {
     );
 }
 
+/// The program's environment is its own but for `LD_PRELOAD` and the layer's `HOLOINJECT_*`:
+/// every process it starts inherits what the launcher adds (Wine's helpers failed at random
+/// under the `MALLOC_*` tuning the launcher once added; the layer now tunes its own process).
+#[test]
+fn the_program_environment_gains_only_the_preload_and_our_variables() {
+    let plain = run(std::path::Path::new("env"), &[], &[]);
+    let under = launch(&["run", "--quilt", "3x3", "--", "env"], &[]);
+    assert_success(&under, "env under the launcher");
+    let lines = |o: &std::process::Output| -> std::collections::BTreeSet<String> {
+        String::from_utf8_lossy(&o.stdout).lines().map(str::to_string).collect()
+    };
+    let (before, after) = (lines(&plain), lines(&under));
+    let added: Vec<&String> = after.difference(&before).collect();
+    let removed: Vec<&String> = before.difference(&after).collect();
+    for line in &added {
+        assert!(
+            line.starts_with("LD_PRELOAD=") || line.starts_with("HOLOINJECT_"),
+            "the launcher added {line} to the program's environment (added: {added:?})"
+        );
+    }
+    assert!(
+        removed.iter().all(|l| l.starts_with("LD_PRELOAD=")),
+        "removed: {removed:?}"
+    );
+    assert!(
+        added.iter().any(|l| l.starts_with("HOLOINJECT_QUILT=3x3")),
+        "added: {added:?}"
+    );
+}
+
 #[test]
 fn program_exit_status_and_arguments_pass_through() {
     let out = launch(&["run", "--", "sh", "-c", "echo \"$0:$1\"; exit 3", "x", "y"], &[]);
