@@ -27,7 +27,8 @@ import math
 import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 
-from disparity_blocks import AGREE_PX, BLOCK, DISTINCT, UNIQUE, load_tiles, luma_std, psnr, spaced
+import disparity_blocks
+from disparity_blocks import BLOCK, load_tiles, luma_std, psnr, spaced
 
 TEXTURE = 8.0
 MIN_SHIFT = 16
@@ -94,22 +95,8 @@ def block_ssd(centre, view, shifts):
 
 
 def match(centre, view, max_shift):
-    """disparity_blocks.match (same rules: distinct, unique, ties to the smallest |shift|) on
-    this module's block_ssd."""
-    shifts = np.arange(-max_shift, max_shift + 1)
-    ssd = block_ssd(centre, view, shifts)
-    order = np.argsort(np.abs(shifts), kind="stable")
-    k = order[ssd[order].argmin(axis=0)]
-    best = np.take_along_axis(ssd, k[None], 0)[0]
-    finite = np.isfinite(ssd)
-    mean = np.where(finite, ssd, 0).sum(axis=0) / np.maximum(finite.sum(axis=0), 1)
-    shift = shifts[k]
-    distinct = (best <= DISTINCT * mean) & (np.abs(shift) < max_shift) & (finite.sum(axis=0) > 2)
-    p = np.pad(ssd, ((1, 1), (0, 0), (0, 0)), constant_values=np.inf)
-    valley = (ssd <= p[:-2]) & (ssd <= p[2:]) & finite
-    elsewhere = np.abs(shifts[:, None, None] - shift[None]) > AGREE_PX
-    unique = best <= UNIQUE * np.where(valley & elsewhere, ssd, np.inf).min(axis=0)
-    return shift, distinct, unique
+    """disparity_blocks.match on this module's block_ssd."""
+    return disparity_blocks.match(centre, view, max_shift, ssd_of=block_ssd)
 
 
 class ExactShifts:
