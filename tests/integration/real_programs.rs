@@ -16,6 +16,7 @@ use crate::util::*;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
+mod fbo_truth;
 mod hdr;
 mod jellyfish;
 mod minetest;
