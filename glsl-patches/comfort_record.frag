@@ -12,6 +12,7 @@ uniform int u_layer;
 uniform ivec4 u_tile;       // the tile in window coordinates (x, y, w, h)
 uniform ivec2 u_src_size;   // the record's size (a shadow's layers may be scaled)
 uniform int u_quilt_rows;   // the quilt's height when stored top-down, else 0
+uniform int u_shadow_flipped; // the scene framebuffer is presented upside down (wined3d)
 // (a_hi, a_lo, c/b, zero_to_one): p = 1 - (c/b)((z + a_hi) + a_lo), inverted.
 uniform vec4 u_model;
 
@@ -27,6 +28,8 @@ void main()
             discard;
     } else {
         vec2 local = (gl_FragCoord.xy - vec2(u_tile.xy)) / vec2(u_tile.zw);
+        if (u_shadow_flipped != 0)
+            local.y = 1.0 - local.y;
         ivec2 at = clamp(ivec2(local * vec2(u_src_size)), ivec2(0), u_src_size - 1);
         rec = texelFetch(u_shadow_record, ivec3(at, u_layer), 0).rg;
         // Unrecorded: the quilt's depth is the composite's, the scene's is in its framebuffer.

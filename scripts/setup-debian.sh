@@ -5,7 +5,8 @@
 # first-person weapon in id Tech 3's depth-range hack, minetest: a voxel game through Irrlicht,
 # shaders on and off, f3d: a VTK viewer, xscreensaver's GL hacks), apitrace (deterministic
 # replays), hyperfine (benchmarks), python3-pip (NVIDIA's FLIP from PyPI for bench-trade), ffmpeg (--record, holoinject quilt of a video) and xdotool
-# (the live-control hotkey test, driving Extreme Tux Racer's menus).
+# (the live-control hotkey test, driving Extreme Tux Racer's menus), wine64 and mingw-w64
+# (a Direct3D 9 program built for Windows, drawn by Wine's wined3d through OpenGL).
 set -euo pipefail
 
 packages=(
@@ -16,6 +17,7 @@ packages=(
   glslang-tools hyperfine python3-numpy python3-matplotlib python3-pil python3-pip
   ffmpeg minetest
   xdotool
+  wine64 gcc-mingw-w64-x86-64
 )
 
 sudo=""

@@ -11,8 +11,12 @@ pub struct CameraEstimate {
     pub rig: ViewRig,
     /// Smoothed auto-convergence estimate (w units), once the scene has been seen.
     pub auto_convergence: Option<f64>,
-    /// Depth model of the last perspective projection seen (for auto-convergence).
+    /// Depth model of the last perspective projection seen (for auto-convergence), or the
+    /// one fitted to what the program draws (`depth_fitted`).
     pub last_depth: Option<DepthRange>,
+    /// `last_depth` came from `depth_fit`, no projection having been read: fitted again each
+    /// frame, replaced by the first projection read.
+    pub depth_fitted: bool,
     /// The main camera's bare projection (row3 = (0,0,-s,0)), for screen-space passes.
     pub camera_projection: Option<[f32; 16]>,
     /// Horizontal focal scale of that projection (for `--view-cone`).
@@ -31,6 +35,7 @@ impl CameraEstimate {
             },
             auto_convergence: None,
             last_depth: None,
+            depth_fitted: false,
             camera_projection: None,
             last_fx: None,
         };

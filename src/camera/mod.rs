@@ -11,6 +11,7 @@
 pub mod attached;
 pub mod comfort;
 pub mod convergence;
+pub mod depth_fit;
 pub mod estimate;
 pub mod matrix;
 pub mod precision;

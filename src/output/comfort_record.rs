@@ -48,6 +48,12 @@ pub fn overlay(
             .find(|a| matches!(a.point, DEPTH_ATTACHMENT | DEPTH_STENCIL_ATTACHMENT))
             .map(|a| a.array)
     });
+    let shadow_flipped = mv
+        .scene
+        .tracker
+        .target
+        .and_then(|f| mv.shadows.get(&f))
+        .is_some_and(|s| s.presented_flipped);
     if !quilt && shadow_depth.is_none() {
         return Ok(());
     }
@@ -83,6 +89,7 @@ pub fn overlay(
             0
         };
         gl.Uniform1i(loc("u_quilt_rows"), rows);
+        gl.Uniform1i(loc("u_shadow_flipped"), i32::from(!quilt && shadow_flipped));
         let m = model;
         gl.Uniform4f(loc("u_model"), m.a_hi, m.a_lo, m.scale, zero_to_one as i32 as f32);
         gl.Uniform1f(loc("u_quad_z"), 0.0);

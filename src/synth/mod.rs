@@ -186,9 +186,10 @@ impl Synthesizer {
         let kept = self.prepare(gl, job.tile, job.sources.len(), job.depth_format, grid);
         let res = self.resources.as_ref().ok_or("no resources")?;
         let depth_ready = kept && captured == Some((job.sources.len(), job.depth_format));
-        if !depth_ready {
-            self.recorded = pass::copy_records(gl, self.fbo, res, job.sources.iter().map(|s| s.record));
-        }
+        // The record is copied again even when the depth was captured early: what is drawn
+        // into the scene's framebuffer after that moment (wined3d draws a game's HUD there)
+        // records its own disparity, and the warp orders and moves those pixels by it.
+        self.recorded = pass::copy_records(gl, self.fbo, res, job.sources.iter().map(|s| s.record));
         let pass = pass::Pass {
             gl,
             info,

@@ -149,7 +149,7 @@ pub fn run(pass: &Pass, programs: &RowPrograms, out: &RowTargets, job: &Job) -> 
         pass.copy_source(j, source, job)?;
         profile.lap("copy");
         pass.parallax(j, job);
-        pack(pass, programs, out, j);
+        pack(pass, programs, out, j, job);
         profile.lap("parallax");
     }
     warp_rows(pass, programs, out, job);
@@ -159,12 +159,30 @@ pub fn run(pass: &Pass, programs: &RowPrograms, out: &RowTargets, job: &Job) -> 
     Ok(())
 }
 
-/// Source `j`'s colour, depth and parallax into the packed storage.
-fn pack(pass: &Pass, programs: &RowPrograms, out: &RowTargets, j: usize) {
+/// Source `j`'s colour, depth and parallax into the packed storage. Where the source
+/// recorded its disparity, the depth the warp orders pixels by is the one the scene's model
+/// gives that parallax (DESIGN §5: one disparity per pixel, for what is in front too): a HUD
+/// that wrote no depth is in front of the sky behind it, as its record says.
+fn pack(pass: &Pass, programs: &RowPrograms, out: &RowTargets, j: usize, job: &Job) {
     let (gl, res, p) = (pass.gl, pass.res, programs.pack);
     pass.bind_array(0, res.color);
     pass.bind_array(1, res.depth);
     pass.bind_array(2, res.parallax);
+    pass.bind_array(3, res.record);
+    let m = job.model;
+    // SAFETY: uniforms of our own program.
+    unsafe {
+        gl.UseProgram(p);
+        gl.Uniform1i(loc(gl, p, "u_record"), 3);
+        gl.Uniform1i(loc(gl, p, "u_recorded"), (pass.recorded >> j & 1) as i32);
+        gl.Uniform4f(
+            loc(gl, p, "u_model"),
+            m.a_hi,
+            m.a_lo,
+            m.scale,
+            f32::from(u8::from(m.reversed)),
+        );
+    }
     // SAFETY: our program and buffer; bindings are restored by the caller's guard.
     unsafe {
         gl.BindBufferBase(SHADER_STORAGE_BUFFER, 1, out.packed);

@@ -30,3 +30,4 @@ mod sample_apps;
 mod synthesis;
 mod synthesis_pixel;
 mod tools;
+mod wine;

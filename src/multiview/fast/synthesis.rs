@@ -302,28 +302,43 @@ fn records(
     layout: &crate::multiview::quilt::layout::QuiltLayout,
 ) -> Vec<Option<(u32, [i32; 4])>> {
     let rendered = mv.plan.rendered.clone();
+    let flipped = scene_shadow(mv).is_some_and(|s| s.presented_flipped);
     rendered
         .iter()
-        .map(|&r| crate::multiview::quilt::record::source(gl, mv, r, layout.tile_rect(r)))
+        .map(|&r| {
+            let rec = crate::multiview::quilt::record::source(gl, mv, r, layout.tile_rect(r));
+            // A shadow's record is read like its depth: in the window's orientation.
+            rec.map(|(fbo, [x, y, w, h])| {
+                if flipped {
+                    (fbo, [x, y + h, w, -h])
+                } else {
+                    (fbo, [x, y, w, h])
+                }
+            })
+        })
         .collect()
 }
 
-/// The framebuffer and rectangle holding view `r`'s scene depth, as functions of `r`.
-fn depth_source(mv: &Multiview, quilt: u32) -> (impl Fn(u32) -> u32 + '_, impl Fn(u32) -> [i32; 4] + '_) {
-    let shadow = mv
-        .scene
+/// The shadow of the framebuffer the main camera draws into, when it is one.
+fn scene_shadow(mv: &Multiview) -> Option<&crate::multiview::shadows::shadow::ShadowFbo> {
+    mv.scene
         .tracker
         .target
         .filter(|&t| t != 0)
         .and_then(|t| mv.shadows.get(&t))
-        .filter(|s| !s.stale);
+        .filter(|s| !s.stale)
+}
+
+/// The framebuffer and rectangle holding view `r`'s scene depth, as functions of `r`.
+fn depth_source(mv: &Multiview, quilt: u32) -> (impl Fn(u32) -> u32 + '_, impl Fn(u32) -> [i32; 4] + '_) {
+    let shadow = scene_shadow(mv);
     let layout = mv.layout();
     let fbo = move |r: u32| match shadow {
         Some(s) => s.views.get(r as usize).copied().unwrap_or(quilt),
         None => quilt,
     };
     let rect = move |r: u32| match (shadow, layout) {
-        (Some(s), _) => [0, 0, s.size.0, s.size.1],
+        (Some(s), _) => s.scene_rect(),
         (None, Some(l)) => l.tile_rect(r),
         (None, None) => [0, 0, 1, 1],
     };

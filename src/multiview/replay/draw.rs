@@ -98,6 +98,13 @@ fn replay(
     let scissored = app.enabled(gl, SCISSOR_TEST);
     let records = if shift.camera() {
         super::record::wanted(app, mv)
+    } else if overlay(&shift) && !app.enabled(gl, BLEND) {
+        // An opaque draw through an orthographic matrix into the scene's own framebuffer is
+        // an overlay (wined3d draws a game's HUD there, not into the window): recorded as
+        // on the screen plane, so the warps keep it in place. Not for auto-convergence
+        // alone, which should not count a HUD as scene; a blended one (a tint, fog) leaves
+        // the scene's record under it.
+        super::record::wanted(app, mv).filter(|v| matches!(v, super::record::Views::All))
     } else {
         None
     };
@@ -419,4 +426,15 @@ fn load_projection(gl: &Gl, m: &[f32; 16], app_mode: Option<u32>) {
         gl.LoadMatrixf(m.as_ptr());
         gl.MatrixMode(app_mode.unwrap_or(MODELVIEW));
     }
+}
+
+/// A draw through an orthographic projection of the program's (a HUD, an overlay).
+fn overlay(shift: &Shift) -> bool {
+    matches!(
+        shift,
+        Shift::Uniform {
+            mode: ViewMode::Orthographic,
+            ..
+        }
+    )
 }

@@ -168,6 +168,15 @@ fn link_with(gl: &Gl, group: &ShareGroup, program: u32, link: &impl Fn(), record
 /// with the disparity record; `Some(app's outputs)` when it now writes it.
 fn record_fragment(gl: &Gl, group: &ShareGroup, fs: u32, program: u32) -> Option<Vec<String>> {
     let current = source_of(gl, fs);
+    let before = group.lock().original_sources.get(&fs).cloned();
+    if let Some(before) = before.filter(|_| current.contains(shader::record::RECORD_VARYING)) {
+        // Recording already, for another program it is shared with (wined3d attaches one
+        // fragment shader to several programs): its output must be bound in this one too, or
+        // the linker puts it on any draw buffer.
+        let edit = shader::record::rewrite_fragment(&before).ok()?;
+        bind_record_output(gl, program, edit.bind_output);
+        return Some(edit.app_outputs);
+    }
     let edit = match shader::record::rewrite_fragment(&current) {
         Ok(e) => e,
         Err(why) => {
@@ -185,13 +194,17 @@ fn record_fragment(gl: &Gl, group: &ShareGroup, fs: u32, program: u32) -> Option
         compile(gl, fs, &current);
         return None;
     }
-    if edit.bind_output {
+    bind_record_output(gl, program, edit.bind_output);
+    group.lock().original_sources.entry(fs).or_insert(current);
+    Some(edit.app_outputs)
+}
+
+fn bind_record_output(gl: &Gl, program: u32, bind: bool) {
+    if bind {
         let name = CString::new(shader::record::RECORD_OUTPUT).unwrap_or_default();
         // SAFETY: a name binding on the app's program, effective at the link that follows.
         unsafe { gl.BindFragDataLocation(program, shader::record::RECORD_BUFFER, name.as_ptr()) };
     }
-    group.lock().original_sources.entry(fs).or_insert(current);
-    Some(edit.app_outputs)
 }
 
 /// None of the app's own outputs was placed on the record's draw buffer by the linker.

@@ -213,7 +213,7 @@ fn mode_of(program: u32, matrix: Option<[f32; 16]>, mv: &mut Multiview) -> ViewM
         mv.camera.camera_projection = Some(m);
     }
     if let Some(d) = p.depth {
-        if mv.camera.last_depth.is_none() {
+        if mv.camera.last_depth.is_none() || mv.camera.depth_fitted {
             crate::log::info(format_args!(
                 "{name}: perspective projection, near {:.6}, far {}{}",
                 d.near(),
@@ -222,6 +222,7 @@ fn mode_of(program: u32, matrix: Option<[f32; 16]>, mv: &mut Multiview) -> ViewM
             ));
         }
         mv.camera.last_depth = p.depth;
+        mv.camera.depth_fitted = false;
         mv.camera.last_fx = p.fx.or(mv.camera.last_fx);
     }
     if let Some(issue) = p.issue {

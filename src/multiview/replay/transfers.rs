@@ -133,6 +133,9 @@ pub fn blit(gl: &Gl, app: &AppState, mv: &mut Multiview, src: [i32; 4], dst: [i3
         None => LayerScale::ONE,
     };
     let (src_scale, dst_scale) = (scale_of(read, &src_layers), scale_of(draw, &dst_layers));
+    if draw == 0 && src_layers.is_some() {
+        note_orientation(mv, read, src, dst);
+    }
     resolved_blit_source(gl, app, mv);
     let per_view = draw == 0 || src_layers.is_some() || dst_layers.is_some();
     if draw == 0 && mv.plan.before_default_draw(src_layers.is_some() || read == 0) {
@@ -178,6 +181,43 @@ pub fn blit(gl: &Gl, app: &AppState, mv: &mut Multiview, src: [i32; 4], dst: [i3
         f(s, d);
     }
     rebind(gl, app, mv);
+}
+
+/// Whether the app's blit of shadowed `read` to the window (corners `src` to `dst`) turns it
+/// upside down, remembered for those who read depth beside the window's colour
+/// (`ShadowFbo::scene_rect`). Orientation belongs to the images: wined3d draws into one
+/// framebuffer (colour and depth) and presents through another holding the same colour
+/// texture, so every shadow sharing an image with `read` takes it.
+fn note_orientation(mv: &mut Multiview, read: u32, src: [i32; 4], dst: [i32; 4]) {
+    let flipped = (src[1] > src[3]) != (dst[1] > dst[3]);
+    let Some(apps) = mv
+        .shadows
+        .get(&read)
+        .map(|s| s.attached.iter().map(|a| a.app).collect::<Vec<_>>())
+    else {
+        return;
+    };
+    for (&fbo, s) in mv.shadows.iter_mut() {
+        if s.presented_flipped == flipped || !s.attached.iter().any(|a| apps.contains(&a.app)) {
+            continue;
+        }
+        s.presented_flipped = flipped;
+        if flipped {
+            crate::log::once_for(
+                ("presented-flipped", u64::from(fbo)),
+                crate::log::Level::Info,
+                format_args!(
+                    "framebuffer {fbo} is presented upside down ({} blitted flipped to the window): its depth \
+                     and disparity record are read flipped",
+                    if fbo == read {
+                        "it is".to_string()
+                    } else {
+                        format!("its colour is, through framebuffer {read},")
+                    }
+                ),
+            );
+        }
+    }
 }
 
 /// The layers a blit into the app's `fbo` writes: a view-dependent source makes it

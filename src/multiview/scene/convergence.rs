@@ -209,11 +209,11 @@ pub fn update_convergence(gl: &Gl, app: &mut AppState, mv: &mut Multiview) {
 
 /// Harmonic mean depth of this frame's copy, smoothed into the convergence.
 fn estimate(gl: &Gl, mv: &mut Multiview) {
-    let (Some((from, rect)), Some(range), Some(target)) =
-        (mv.scene.taken.take(), mv.camera.last_depth, mv.scene.tracker.target)
-    else {
+    let (Some((from, rect)), Some(target)) = (mv.scene.taken.take(), mv.scene.tracker.target) else {
         return;
     };
+    // No projection read: the depth model is fitted to this frame's record and depth.
+    let fit = mv.camera.last_depth.is_none() || mv.camera.depth_fitted;
     let mut depths = match mv.scene.copy.read(gl, mv.info) {
         Ok(d) => d,
         Err(e) => return unreadable(target, &e),
@@ -225,6 +225,13 @@ fn estimate(gl: &Gl, mv: &mut Multiview) {
             *d = (*d + 1.0) / 2.0;
         }
     }
+    if fit && let Some(r) = super::recorded::fit_depth_model(gl, mv, centre(mv), rect, &depths) {
+        mv.camera.last_depth = Some(r);
+        mv.camera.depth_fitted = true;
+    }
+    let Some(range) = mv.camera.last_depth else {
+        return;
+    };
     let recorded = super::recorded::substitute(gl, mv, centre(mv), rect, range, &mut depths);
     let width = mv.scene.copy.copied().1[2].max(1) as usize;
     crate::multiview::fast::auto::scene_depth(mv, &depths, width, range);

@@ -25,21 +25,65 @@ pub fn substitute(
     let Some(model) = ParallaxModel::new(range, mv.camera.rig.convergence).filter(|m| m.scale != 0.0) else {
         return 0;
     };
-    let Some((fbo, _)) = crate::multiview::quilt::record::source(gl, mv, view, rect) else {
+    let Some(record) = read(gl, mv, view, rect, depths.len()) else {
         return 0;
     };
-    let record = crate::gl::readback::read_rg(gl, mv.info, fbo, rect);
-    if record.len() != depths.len() * 2 {
-        return 0;
-    }
     let mut n = 0;
     for (d, r) in depths.iter_mut().zip(record.chunks_exact(2)) {
-        if r[1] > 0.5 {
+        // Exactly 0 is an overlay's (a HUD recorded on the screen plane when the warps need
+        // it, `replay::draw`): not the scene, so the scene's depth stands there, as it does
+        // when nothing recorded.
+        if r[1] > 0.5 && r[0] != 0.0 {
             *d = window_depth(model, r[0]);
             n += 1;
         }
     }
     n
+}
+
+/// The record of `rect` of view `view`'s scene target, `(p, recorded)` per pixel, when it
+/// has one and it matches `pixels`.
+fn read(gl: &Gl, mv: &mut Multiview, view: u32, rect: [i32; 4], pixels: usize) -> Option<Vec<f32>> {
+    let (fbo, _) = crate::multiview::quilt::record::source(gl, mv, view, rect)?;
+    let record = crate::gl::readback::read_rg(gl, mv.info, fbo, rect);
+    (record.len() == pixels * 2).then_some(record)
+}
+
+/// No projection read (`--log debug` says why per program): the depth model fitted to the
+/// recorded parallax and the depth of the same pixels (`camera::depth_fit`), at the
+/// convergence the frame was drawn with. Said once at `info`.
+pub fn fit_depth_model(gl: &Gl, mv: &mut Multiview, view: u32, rect: [i32; 4], depths: &[f32]) -> Option<DepthRange> {
+    let record = read(gl, mv, view, rect, depths.len())?;
+    let c = mv.camera.rig.convergence;
+    let samples = record
+        .chunks_exact(2)
+        .zip(depths)
+        .filter(|(r, _)| r[1] > 0.5)
+        .map(|(r, &d)| (r[0], d));
+    let fitted = crate::camera::depth_fit::fit(samples, c);
+    match fitted {
+        Some(f) => crate::log::once_for(
+            ("depth-fitted", 0),
+            crate::log::Level::Info,
+            format_args!(
+                "projection unknown (no matrix read from the program's uniforms): depth model fitted to what \
+                 it draws, recorded parallax against depth at {} of {} pixels: near {:.6}, far {:.6}",
+                f.inliers,
+                f.candidates,
+                f.range.near(),
+                f.range.far()
+            ),
+        ),
+        None => crate::log::once_for(
+            ("depth-unfitted", 0),
+            crate::log::Level::Debug,
+            format_args!(
+                "projection unknown and not yet fitted to what the program draws (too few recorded pixels, or \
+                 all at one distance): auto-convergence, the warps and comfort wait for it"
+            ),
+        ),
+    }
+    fitted.map(|f| f.range)
 }
 
 /// The window depth (`[-1,1]` convention) at which the scene's model gives parallax `p`.

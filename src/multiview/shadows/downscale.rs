@@ -4,7 +4,7 @@
 //! One factor per context, the same for every framebuffer, so that a pass reading one
 //! scaled target and writing another maps both alike (a same-size blit stays same-size).
 //! A framebuffer keeps the app's size when:
-//! - something attached has a size of its own, not the window's or a halving of it
+//! - something attached has a size of its own, not the window's or a halving or doubling of it
 //!   (`LayerScale::follows_window`): a reduction target, a shadow map, a lookup table;
 //! - something attached is multisampled: a multisampled image cannot be copied to or from
 //!   the app's object at another size;
@@ -47,15 +47,27 @@ pub fn for_framebuffer(mv: &mut Multiview, fbo: u32, attached: &[(GLenum, AppIma
     if !full && (own.is_none() || scale.is_one()) {
         return scale;
     }
-    if let (Some((_, _, s)), false) = (own, scale.is_one()) {
-        crate::log::once_for(
-            ("fbo-scale", u64::from(fbo)),
-            crate::log::Level::Info,
-            format_args!(
-                "framebuffer {fbo}: layers at the program's size ({}x{} does not follow the {}x{} window: a size of its own)",
+    let multisampled = attached.iter().find(|(_, _, s)| s.samples > 0);
+    if !scale.is_one() {
+        let why = match (multisampled, own) {
+            (Some((_, _, s)), _) => format!(
+                "{}x{} with {} samples: a multisampled image cannot be copied at another size",
+                s.width, s.height, s.samples
+            ),
+            (None, Some((_, _, s))) => format!(
+                "{}x{} does not follow the {}x{} window: a size of its own",
                 s.width, s.height, window.0, window.1
             ),
-        );
+            // Remembered full-size through another framebuffer, which said why.
+            (None, None) => String::new(),
+        };
+        if !why.is_empty() {
+            crate::log::once_for(
+                ("fbo-scale", u64::from(fbo)),
+                crate::log::Level::Info,
+                format_args!("framebuffer {fbo}: layers at the program's size ({why})"),
+            );
+        }
     }
     mv.full_size.extend(attached.iter().map(|(_, app, _)| *app));
     LayerScale::ONE

@@ -12,8 +12,11 @@
 //! `shader::fragcoord::pixel_addressing`, `downscale`) keep their framebuffers' layers at the
 //! app's size.
 //!
-//! Only images whose size follows the window's are scaled: the window's size, or a chain of
-//! halvings of it (bloom's and blur's mip-like chains), rounded either way. An image of a
+//! Only images whose size follows the window's are scaled: the window's size, a chain of
+//! halvings of it (bloom's and blur's mip-like chains), rounded either way, or a doubling or
+//! quadrupling of it (a pass drawn supersampled: glmark2's refract draws its distance map at
+//! twice the window, which at the tile's size is twice the tile, as the program itself does
+//! when run at that size). An image of a
 //! size of its own (a 256x256 luminance target, a 1x1 average, a 2048² shadow map, a lookup
 //! table) is not part of the picture's resolution: scaling it would change what the program
 //! computes (OpenArena's auto-exposure went dark), so its framebuffer keeps the app's size.
@@ -26,6 +29,8 @@ use crate::config::FboScale;
 /// Halvings of the window an image may be and still count as following it (1/64: below, a
 /// chain ends in a few pixels that are the program's reduction, not its picture).
 const MAX_HALVINGS: u32 = 6;
+/// Doublings of the window (4x: supersampling beyond that is a size chosen for its own sake).
+const MAX_DOUBLINGS: u32 = 2;
 
 /// Factors from the app's framebuffer pixels to its layers' (each in (0, 1]).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -51,14 +56,17 @@ impl LayerScale {
     }
 
     /// Whether an image of `size` follows a window of `window`: the window's size divided by
-    /// 2^k (k ≤ MAX_HALVINGS), rounded down or up, in both directions with the same k.
+    /// 2^k (k ≤ MAX_HALVINGS), rounded down or up, or multiplied by 2^k (k ≤ MAX_DOUBLINGS),
+    /// in both directions with the same k.
     pub fn follows_window(size: (i32, i32), window: (u32, u32)) -> bool {
-        let matches = |v: i32, w: u32, k: u32| {
+        let halves = |v: i32, w: u32, k: u32| {
             let (w, d) = (i64::from(w), 1i64 << k);
             let v = i64::from(v);
             v == w / d || v == (w + d - 1) / d
         };
-        (0..=MAX_HALVINGS).any(|k| matches(size.0, window.0, k) && matches(size.1, window.1, k))
+        let doubles = |v: i32, w: u32, k: u32| i64::from(v) == i64::from(w) << k;
+        (0..=MAX_HALVINGS).any(|k| halves(size.0, window.0, k) && halves(size.1, window.1, k))
+            || (1..=MAX_DOUBLINGS).any(|k| doubles(size.0, window.0, k) && doubles(size.1, window.1, k))
     }
 
     pub fn is_one(self) -> bool {
@@ -117,7 +125,7 @@ mod tests {
     }
 
     #[test]
-    fn images_follow_the_window_by_halvings_only() {
+    fn images_follow_the_window_by_halvings_and_doublings_only() {
         let w = (800, 600);
         for size in [
             (800, 600),
@@ -128,17 +136,22 @@ mod tests {
             (50, 37),
             (25, 19),
             (13, 10),
+            (1600, 1200),
+            (3200, 2400),
         ] {
             assert!(LayerScale::follows_window(size, w), "{size:?}");
         }
-        // Fixed sizes: a luminance target, a 1x1 average, a shadow map, mixed halvings.
+        // Fixed sizes: a luminance target, a 1x1 average, a shadow map, mixed halvings and
+        // doublings, a doubling past 4x.
         for size in [
             (256, 256),
             (128, 128),
             (1, 1),
             (2048, 2048),
             (400, 600),
-            (1600, 1200),
+            (1600, 600),
+            (1601, 1200),
+            (6400, 4800),
             (799, 600),
         ] {
             assert!(!LayerScale::follows_window(size, w), "{size:?}");

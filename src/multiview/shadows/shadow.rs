@@ -42,6 +42,10 @@ pub struct ShadowFbo {
     pub scale: LayerScale,
     /// The app changed an attachment since `attached` was set: rebuilt before the next use.
     pub stale: bool,
+    /// The app's last blit of it to the window turned it upside down (wined3d draws with
+    /// `gl_Position.y` negated and flips at Present): what reads its depth or disparity
+    /// record alongside the window's colour reads them flipped (`scene_rect`).
+    pub presented_flipped: bool,
 }
 
 /// Shadowing needs direct state access, texture views and image copies.
@@ -150,6 +154,18 @@ impl ShadowFbo {
             size: (0, 0),
             scale: LayerScale::ONE,
             stale: true,
+            presented_flipped: false,
+        }
+    }
+
+    /// Its layers' rectangle in the window's orientation: bottom-up, negative height, when
+    /// the app presents it flipped (a blit with these corners turns it the window's way).
+    pub fn scene_rect(&self) -> [i32; 4] {
+        let (w, h) = self.size;
+        if self.presented_flipped {
+            [0, h, w, -h]
+        } else {
+            [0, 0, w, h]
         }
     }
 
