@@ -144,13 +144,6 @@ fn plausible(mut r: DepthRange) -> Option<DepthRange> {
 mod tests {
     use super::*;
 
-    fn frustum(n: f64, f: f64) -> DepthRange {
-        DepthRange {
-            a: -(f + n) / (f - n),
-            b: -2.0 * f * n / (f - n),
-        }
-    }
-
     /// What a pixel at eye distance `w` records and holds in a 24-bit depth buffer.
     fn pixel(r: DepthRange, c: f64, w: f64) -> (f32, f32) {
         let d = ((-r.a + r.b / w) + 1.0) / 2.0;
@@ -165,7 +158,7 @@ mod tests {
     #[test]
     fn a_frustum_comes_back_from_its_pixels() {
         for (n, f, c) in [(0.5, 100.0, 8.0), (0.01, 5000.0, 3.0), (2.0, 40.0, 1.0)] {
-            let r = frustum(n, f);
+            let r = DepthRange::frustum(n, f);
             let got = fit(distances(4000, n * 1.5, f * 0.8).map(|w| pixel(r, c, w)), c).expect("a fit");
             assert!((got.range.near() - n).abs() / n < 2e-3, "near {n}: {:?}", got.range);
             assert!((got.range.far() - f).abs() / f < 2e-2, "far {f}: {:?}", got.range);
@@ -175,11 +168,11 @@ mod tests {
 
     #[test]
     fn a_hud_and_a_second_projection_are_outliers() {
-        let (r, c) = (frustum(0.5, 100.0), 8.0);
+        let (r, c) = (DepthRange::frustum(0.5, 100.0), 8.0);
         let scene = distances(3000, 1.0, 60.0).map(|w| pixel(r, c, w));
         // A HUD records 0 (dropped before the fit); a weapon drawn with near 0.05 disagrees.
         let hud = std::iter::repeat_n((0.0f32, 0.0001f32), 2000);
-        let weapon = distances(400, 0.1, 0.6).map(|w| pixel(frustum(0.05, 100.0), c, w));
+        let weapon = distances(400, 0.1, 0.6).map(|w| pixel(DepthRange::frustum(0.05, 100.0), c, w));
         let got = fit(scene.chain(hud).chain(weapon), c).expect("a fit");
         assert!((got.range.near() - 0.5).abs() < 1e-3, "{:?}", got.range);
         assert_eq!(got.candidates, 3400);
@@ -196,7 +189,7 @@ mod tests {
 
     #[test]
     fn one_distance_or_too_few_pixels_say_nothing() {
-        let r = frustum(0.5, 100.0);
+        let r = DepthRange::frustum(0.5, 100.0);
         assert!(fit(std::iter::repeat_n(pixel(r, 8.0, 10.0), 5000), 8.0).is_none());
         assert!(fit(distances(100, 1.0, 50.0).map(|w| pixel(r, 8.0, w)), 8.0).is_none());
         assert!(fit(distances(3000, 1.0, 50.0).map(|w| pixel(r, 8.0, w)), 0.0).is_none());

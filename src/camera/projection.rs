@@ -57,6 +57,14 @@ pub struct DepthRange {
 }
 
 impl DepthRange {
+    /// The depth terms of `glFrustum(.., near, far)` (as `classify` reads them).
+    pub fn frustum(near: f64, far: f64) -> DepthRange {
+        DepthRange {
+            a: -(far + near) / (far - near),
+            b: -2.0 * far * near / (far - near),
+        }
+    }
+
     /// Eye distance `w` of a fragment with NDC depth `z_ndc` (window depth `d` maps to
     /// `2d-1` under the default [-1,1] clip control).
     pub fn w_of_ndc(&self, z_ndc: f64) -> f64 {

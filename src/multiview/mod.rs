@@ -239,6 +239,16 @@ impl Multiview {
         }
     }
 
+    /// The shadow of the framebuffer the main camera draws into, when it is one and current.
+    pub fn scene_shadow(&self) -> Option<&shadows::shadow::ShadowFbo> {
+        self.scene
+            .tracker
+            .target
+            .filter(|&t| t != 0)
+            .and_then(|t| self.shadows.get(&t))
+            .filter(|s| !s.stale)
+    }
+
     /// The quilt's framebuffer name while it stands in for framebuffer 0.
     pub fn quilt_fbo(&self) -> Option<u32> {
         self.target.as_ref().filter(|_| !self.failed).map(|t| t.fbo)

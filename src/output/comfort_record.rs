@@ -48,12 +48,7 @@ pub fn overlay(
             .find(|a| matches!(a.point, DEPTH_ATTACHMENT | DEPTH_STENCIL_ATTACHMENT))
             .map(|a| a.array)
     });
-    let shadow_flipped = mv
-        .scene
-        .tracker
-        .target
-        .and_then(|f| mv.shadows.get(&f))
-        .is_some_and(|s| s.presented_flipped);
+    let shadow_flipped = mv.scene_shadow().is_some_and(|s| s.presented_flipped);
     if !quilt && shadow_depth.is_none() {
         return Ok(());
     }

@@ -96,7 +96,10 @@ pub fn disparity(frame: u64, gl: &Gl, mv: &mut Multiview, settings: &Settings) -
                 recorded += 1;
             }
         }
-        if presented_flipped(mv, fbo) {
+        if mv
+            .scene_shadow()
+            .is_some_and(|s| s.presented_flipped && s.views.contains(&fbo))
+        {
             // Shown the way the program presents it (wined3d draws upside down).
             let row = rect[2].max(0) as usize;
             px = px.chunks(row.max(1)).rev().flatten().copied().collect();
@@ -115,15 +118,6 @@ pub fn disparity(frame: u64, gl: &Gl, mv: &mut Multiview, settings: &Settings) -
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let path = dir.join(format!("f{frame:06}_disparity_{}.png", l.file_tag()));
     super::png::write_rgb(&path, w as u32, (h + LEGEND_H) as u32, &rgb)
-}
-
-/// `fbo` is a layer of the scene's shadow, which the program presents upside down.
-fn presented_flipped(mv: &Multiview, fbo: u32) -> bool {
-    mv.scene
-        .tracker
-        .target
-        .and_then(|t| mv.shadows.get(&t))
-        .is_some_and(|s| s.presented_flipped && s.views.contains(&fbo))
 }
 
 /// View `view`'s cell of the top-down image (view 0 bottom-left), each pixel from the

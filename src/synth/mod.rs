@@ -258,7 +258,6 @@ impl Synthesizer {
         gl: &Gl,
         info: GlInfo,
         depths: &[(u32, [i32; 4])],
-        records: &[Option<(u32, [i32; 4])>],
         (tile, depth_format, grid): ((i32, i32), GLenum, bool),
     ) {
         let _guard = pass::guard(gl, info);
@@ -268,7 +267,6 @@ impl Synthesizer {
         for (j, &d) in depths.iter().enumerate() {
             pass::copy_depth(gl, self.fbo, res, j, d, depth_format);
         }
-        self.recorded = pass::copy_records(gl, self.fbo, res, records.iter().copied());
         self.captured = Some((depths.len(), depth_format));
     }
 

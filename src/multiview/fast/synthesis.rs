@@ -169,7 +169,6 @@ pub fn capture_depth(gl: &Gl, mv: &mut Multiview) {
         .map(|&r| (depth_fbo(r), depth_rect(r)))
         .collect();
     drop((depth_fbo, depth_rect));
-    let records = records(gl, mv, &layout);
     let source = depths.first().map_or(quilt, |d| d.0);
     let format = mv.scene.described(source).map_or_else(
         || {
@@ -190,7 +189,7 @@ pub fn capture_depth(gl: &Gl, mv: &mut Multiview) {
     let tile = (layout.tile_w as i32, layout.tile_h as i32);
     let info = mv.info;
     let mut synth = std::mem::take(&mut mv.synth);
-    synth.capture_depth(gl, info, &depths, &records, (tile, format.format, grid));
+    synth.capture_depth(gl, info, &depths, (tile, format.format, grid));
     mv.synth = synth;
 }
 
@@ -302,7 +301,7 @@ fn records(
     layout: &crate::multiview::quilt::layout::QuiltLayout,
 ) -> Vec<Option<(u32, [i32; 4])>> {
     let rendered = mv.plan.rendered.clone();
-    let flipped = scene_shadow(mv).is_some_and(|s| s.presented_flipped);
+    let flipped = mv.scene_shadow().is_some_and(|s| s.presented_flipped);
     rendered
         .iter()
         .map(|&r| {
@@ -319,19 +318,9 @@ fn records(
         .collect()
 }
 
-/// The shadow of the framebuffer the main camera draws into, when it is one.
-fn scene_shadow(mv: &Multiview) -> Option<&crate::multiview::shadows::shadow::ShadowFbo> {
-    mv.scene
-        .tracker
-        .target
-        .filter(|&t| t != 0)
-        .and_then(|t| mv.shadows.get(&t))
-        .filter(|s| !s.stale)
-}
-
 /// The framebuffer and rectangle holding view `r`'s scene depth, as functions of `r`.
 fn depth_source(mv: &Multiview, quilt: u32) -> (impl Fn(u32) -> u32 + '_, impl Fn(u32) -> [i32; 4] + '_) {
-    let shadow = scene_shadow(mv);
+    let shadow = mv.scene_shadow();
     let layout = mv.layout();
     let fbo = move |r: u32| match shadow {
         Some(s) => s.views.get(r as usize).copied().unwrap_or(quilt),

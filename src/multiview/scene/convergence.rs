@@ -225,14 +225,20 @@ fn estimate(gl: &Gl, mv: &mut Multiview) {
             *d = (*d + 1.0) / 2.0;
         }
     }
-    if fit && let Some(r) = super::recorded::fit_depth_model(gl, mv, centre(mv), rect, &depths) {
+    // Read back once, for the fit and the substitution.
+    let record = super::recorded::read(gl, mv, centre(mv), rect, depths.len());
+    if fit
+        && let Some(r) = record
+            .as_ref()
+            .and_then(|rec| super::recorded::fit_depth_model(mv, rec, &depths))
+    {
         mv.camera.last_depth = Some(r);
         mv.camera.depth_fitted = true;
     }
     let Some(range) = mv.camera.last_depth else {
         return;
     };
-    let recorded = super::recorded::substitute(gl, mv, centre(mv), rect, range, &mut depths);
+    let recorded = record.map_or(0, |rec| super::recorded::substitute(mv, range, &rec, &mut depths));
     let width = mv.scene.copy.copied().1[2].max(1) as usize;
     crate::multiview::fast::auto::scene_depth(mv, &depths, width, range);
     if mv.settings.convergence != Convergence::Auto {

@@ -12,20 +12,10 @@ use crate::synth::disparity::ParallaxModel;
 /// Parallax at or above this is infinity: the background, as the far clear is.
 const INFINITY_PARALLAX: f32 = 1.0 - 1e-6;
 
-/// Replaces `depths` (window depth, `[-1,1]` convention, rows bottom-up, of `rect` of the
-/// centre view `view`'s scene target) where the record holds a parallax. Returns how many.
-pub fn substitute(
-    gl: &Gl,
-    mv: &mut Multiview,
-    view: u32,
-    rect: [i32; 4],
-    range: DepthRange,
-    depths: &mut [f32],
-) -> usize {
+/// Replaces `depths` (window depth, `[-1,1]` convention, rows bottom-up) where `record`
+/// (`read`, the same pixels) holds a parallax. Returns how many.
+pub fn substitute(mv: &Multiview, range: DepthRange, record: &[f32], depths: &mut [f32]) -> usize {
     let Some(model) = ParallaxModel::new(range, mv.camera.rig.convergence).filter(|m| m.scale != 0.0) else {
-        return 0;
-    };
-    let Some(record) = read(gl, mv, view, rect, depths.len()) else {
         return 0;
     };
     let mut n = 0;
@@ -43,7 +33,7 @@ pub fn substitute(
 
 /// The record of `rect` of view `view`'s scene target, `(p, recorded)` per pixel, when it
 /// has one and it matches `pixels`.
-fn read(gl: &Gl, mv: &mut Multiview, view: u32, rect: [i32; 4], pixels: usize) -> Option<Vec<f32>> {
+pub fn read(gl: &Gl, mv: &mut Multiview, view: u32, rect: [i32; 4], pixels: usize) -> Option<Vec<f32>> {
     let (fbo, _) = crate::multiview::quilt::record::source(gl, mv, view, rect)?;
     let record = crate::gl::readback::read_rg(gl, mv.info, fbo, rect);
     (record.len() == pixels * 2).then_some(record)
@@ -52,8 +42,7 @@ fn read(gl: &Gl, mv: &mut Multiview, view: u32, rect: [i32; 4], pixels: usize) -
 /// No projection read (`--log debug` says why per program): the depth model fitted to the
 /// recorded parallax and the depth of the same pixels (`camera::depth_fit`), at the
 /// convergence the frame was drawn with. Said once at `info`.
-pub fn fit_depth_model(gl: &Gl, mv: &mut Multiview, view: u32, rect: [i32; 4], depths: &[f32]) -> Option<DepthRange> {
-    let record = read(gl, mv, view, rect, depths.len())?;
+pub fn fit_depth_model(mv: &Multiview, record: &[f32], depths: &[f32]) -> Option<DepthRange> {
     let c = mv.camera.rig.convergence;
     let samples = record
         .chunks_exact(2)
@@ -100,17 +89,9 @@ fn window_depth(m: ParallaxModel, p: f32) -> f32 {
 mod tests {
     use super::*;
 
-    fn range(n: f64, f: f64) -> DepthRange {
-        // A glFrustum's depth terms, as `projection::classify` reads them.
-        DepthRange {
-            a: -(f + n) / (f - n),
-            b: -2.0 * f * n / (f - n),
-        }
-    }
-
     #[test]
     fn a_recorded_parallax_comes_back_as_the_depth_of_its_distance() {
-        let r = range(0.1, 100.0);
+        let r = DepthRange::frustum(0.1, 100.0);
         let c = 5.0;
         let m = ParallaxModel::new(r, c).unwrap();
         for w in [0.2, 1.0, 5.0, 40.0] {
@@ -123,7 +104,7 @@ mod tests {
 
     #[test]
     fn infinity_is_the_background_and_nothing_is_nearer_than_the_near_plane() {
-        let r = range(0.1, 100.0);
+        let r = DepthRange::frustum(0.1, 100.0);
         let m = ParallaxModel::new(r, 5.0).unwrap();
         assert_eq!(window_depth(m, 1.0), 1.0);
         // Beyond the far plane (a sky at 1e6) is the background too.
