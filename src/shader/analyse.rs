@@ -21,6 +21,7 @@ pub fn analyse(source: &str, stage: Stage) -> Analysis {
         writes_layer: findings.writes_layer,
         position_kind: findings.kind.unwrap_or(PositionKind::Unknown),
         matrix_uniforms: findings.matrices,
+        vec4_matrices: parsed.as_ref().map(super::vec4_matrix::find).unwrap_or_default(),
         has_main: parsed.as_ref().map(|tu| {
             tu.0.iter().any(|d| {
                 matches!(&**d, glsl_lang::ast::ExternalDeclarationData::FunctionDefinition(f)
@@ -54,7 +55,10 @@ pub fn parse_error(source: &str) -> Option<String> {
 /// ends in `##` at the end of the input, and on `##` followed by a `"` (both found by
 /// `cargo fuzz`): a final newline ends every directive; a source with both `##` and `"` (GLSL
 /// has no strings; only `#line`/`#include` extensions use quotes) or ending inside a block
-/// comment is left to the text analysis.
+/// comment is left to the text analysis. `#extension` lines are dropped (kept as empty
+/// lines): its preprocessor refuses every extension it does not know (wined3d enables twenty,
+/// `GL_ARB_cull_distance` among them), and none changes what the analysis looks for; the
+/// GOOGLE directive extensions it implements stay.
 fn parser_safe(source: &str) -> Result<String, &'static str> {
     if text::ends_in_block_comment(source) {
         return Err("unterminated block comment");
@@ -63,5 +67,17 @@ fn parser_safe(source: &str) -> Result<String, &'static str> {
     if blanked.contains("##") && blanked.contains('"') {
         return Err("token pasting (##) together with a quote");
     }
-    Ok(format!("{source}\n"))
+    // `split`, not `lines`: every newline (and a final `\r`) stays where it was.
+    let lines: Vec<&str> = source
+        .split('\n')
+        .map(|l| {
+            let t = l.trim_start();
+            let directive = t.strip_prefix('#').map(str::trim_start);
+            match directive {
+                Some(d) if d.starts_with("extension") && !d.contains("GL_GOOGLE_") => "",
+                _ => l,
+            }
+        })
+        .collect();
+    Ok(format!("{}\n", lines.join("\n")))
 }

@@ -25,6 +25,9 @@ pub struct Sym {
 pub struct Program<'a> {
     pub globals: HashMap<String, Sym>,
     pub functions: HashMap<String, Vec<&'a ast::FunctionDefinition>>,
+    /// Functions this shader object only declares (defined in another object of the
+    /// program, as wined3d's `setup_vs_output`, which writes `gl_Position`).
+    pub declared_only: std::collections::HashSet<String>,
     structs: HashMap<String, Vec<StructFieldSpecifier>>,
     /// User-function bodies evaluated so far (see `spend_call`).
     calls: std::cell::Cell<u32>,
@@ -55,6 +58,20 @@ impl<'a> Program<'a> {
                 ExternalDeclarationData::Preprocessor(_) => {}
             }
         }
+        let declared: Vec<String> =
+            tu.0.iter()
+                .filter_map(|d| match &**d {
+                    ExternalDeclarationData::Declaration(decl) => match &**decl {
+                        DeclarationData::FunctionPrototype(p) => Some(p.name.as_str().to_string()),
+                        _ => None,
+                    },
+                    _ => None,
+                })
+                .collect();
+        prog.declared_only = declared
+            .into_iter()
+            .filter(|n| !prog.functions.contains_key(n))
+            .collect();
         prog
     }
 

@@ -144,8 +144,22 @@ impl<'p, 'a> Scope<'p, 'a> {
                 self.effects(b);
             }
             ExprData::Ternary(c, a, b) => [c, a, b].into_iter().for_each(|x| self.effects(x)),
-            ExprData::FunCall(_, args) => args.iter().for_each(|a| self.effects(a)),
+            ExprData::FunCall(f, args) => {
+                args.iter().for_each(|a| self.effects(a));
+                self.external_call(f);
+            }
             _ => {}
+        }
+    }
+
+    /// A call of a function defined in another shader object may write `gl_Position`: what
+    /// this object then does to it (wined3d's `pos_fixup` edits) works on an unknown value.
+    fn external_call(&mut self, f: &ast::FunIdentifier) {
+        if let FunIdentifierData::Expr(e) = &**f
+            && let ExprData::Variable(id) = &***e
+            && self.prog.declared_only.contains(id.as_str())
+        {
+            self.env.insert("gl_Position".to_string(), Info::unknown());
         }
     }
 

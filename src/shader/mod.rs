@@ -48,6 +48,7 @@ mod tests_lines;
 mod tests_mutations;
 mod text;
 mod text_scan;
+pub mod vec4_matrix;
 
 pub use analyse::{analyse, parse_error};
 pub use rewrite::{rewrite, rewrite_recording};
@@ -185,6 +186,9 @@ pub struct Analysis {
     /// anonymous ones), `s.member` for uniform structs; built-ins `gl_ModelViewProjectionMatrix`
     /// (also for `ftransform()`), `gl_ProjectionMatrix`, `gl_ModelViewMatrix`.
     pub matrix_uniforms: Vec<String>,
+    /// Matrices held in `vec4` uniform arrays that the shader applies (`vec4_matrix`), found
+    /// wherever they go: the caller decides whether one is the position's.
+    pub vec4_matrices: Vec<vec4_matrix::Vec4Matrix>,
     /// Whether `main` is defined in the code the preprocessor keeps (known only when
     /// glsl-lang parsed the source): a shader object may lack it, or have it under an `#if`
     /// that is off, and then it compiles but our wrapper's call would not.

@@ -32,6 +32,10 @@ pub struct ProgramInfo {
     /// Location of the leftmost matrix uniform of the gl_Position expression (P, VP or MVP),
     /// when it is a plain uniform whose uploads we see.
     pub projection_loc: Option<i32>,
+    /// `projection_loc` is the first of four elements of a `vec4` array holding the matrix
+    /// (`shader::vec4_matrix`): `Some(true)` when they are its rows. Uploads of vec4s that
+    /// cover all four are tracked as the matrix at that location.
+    pub projection_vec4: Option<bool>,
     /// Otherwise, the uniform-block member holding it, and its value as last read (with the
     /// buffer generation it was read at).
     pub projection_ubo: Option<UboMember>,
@@ -56,6 +60,9 @@ pub struct ProgramInfo {
     /// introspection, whose indices are renumbered around them.
     pub hidden_uniforms: Vec<u32>,
 }
+
+/// Some program's projection is held in a vec4 array: only then are vec4 uploads looked at.
+pub static VEC4_PROJECTIONS: AtomicBool = AtomicBool::new(false);
 
 #[derive(Default)]
 pub struct GroupState {
@@ -99,6 +106,13 @@ impl ShareGroup {
     pub fn linked(&self, program: u32, info: ProgramInfo) {
         self.lock().programs.insert(program, Arc::new(info));
         self.links.fetch_add(1, Ordering::AcqRel);
+    }
+
+    /// `program`'s projection held in a vec4 array: (first element's location, rows?).
+    pub fn vec4_projection(&self, program: u32) -> Option<(i32, bool)> {
+        let state = self.lock();
+        let info = state.programs.get(&program)?;
+        Some((info.projection_loc?, info.projection_vec4?))
     }
 
     /// Records a `mat4` uniform upload; returns the upload generation before it.

@@ -3,8 +3,8 @@
 //! wined3d draws through OpenGL, in its fixed-function and its `vs_2_0` variant.
 //!
 //! wined3d is a demanding OpenGL program: its vertex shader's matrix is a `vec4 vs_c[256]`
-//! constant array applied in one shader object and written to `gl_Position` in another (the
-//! projection cannot be read; its depth model is fitted to what it draws), and it draws into
+//! constant array applied in one shader object and written to `gl_Position` in another, its
+//! depth remapped after the matrix (the depth model is fitted to what it draws), and it draws into
 //! a framebuffer stored upside down that it blits flipped to the window at Present (its depth
 //! must be read flipped beside the window's colour).
 
@@ -64,10 +64,29 @@ fn with_mesa_debug() -> Vec<(&'static str, &'static str)> {
     env
 }
 
-fn probe_args(shader: bool, frames: &str) -> Vec<String> {
+/// The probe's variants: fixed function, a vs_2_0 shader with one matrix in its constants,
+/// and one with two (`--world`: which one is the projection cannot be told).
+#[derive(Clone, Copy, PartialEq)]
+enum Variant {
+    Fixed,
+    Shader,
+    World,
+}
+
+impl Variant {
+    fn name(self) -> &'static str {
+        match self {
+            Variant::Fixed => "fixed",
+            Variant::Shader => "shader",
+            Variant::World => "world",
+        }
+    }
+}
+
+fn probe_args(variant: Variant, frames: &str) -> Vec<String> {
     let mut args = vec![probe().to_str().unwrap().to_string()];
-    if shader {
-        args.push("--shader".into());
+    if variant != Variant::Fixed {
+        args.push(format!("--{}", variant.name()));
     }
     args.extend([
         "--size".into(),
@@ -79,9 +98,9 @@ fn probe_args(shader: bool, frames: &str) -> Vec<String> {
 }
 
 /// The program's own last frame (its back buffer, read by Direct3D), and what it said.
-fn plain(dir: &Path, shader: bool) -> (Image, String) {
-    let shot = dir.join(if shader { "plain-shader.ppm" } else { "plain-fixed.ppm" });
-    let mut args = probe_args(shader, "4");
+fn plain(dir: &Path, variant: Variant) -> (Image, String) {
+    let shot = dir.join(format!("plain-{}.ppm", variant.name()));
+    let mut args = probe_args(variant, "4");
     args.extend(["--screenshot".into(), shot.to_str().unwrap().into()]);
     let args: Vec<&str> = args.iter().map(String::as_str).collect();
     let out = run(Path::new(WINE), &args, &with_mesa_debug());
@@ -90,8 +109,8 @@ fn plain(dir: &Path, shader: bool) -> (Image, String) {
 }
 
 /// Frame 4's quilt under the layer (`VIEWS`x1 of the program's size), and the layer's stderr.
-fn quilt(dir: &Path, shader: bool, mode: &str) -> (Image, String) {
-    let name = format!("{}-{mode}", if shader { "shader" } else { "fixed" });
+fn quilt(dir: &Path, variant: Variant, mode: &str) -> (Image, String) {
+    let name = format!("{}-{mode}", variant.name());
     let dump = dir.join(&name);
     let (quilt, tile) = (format!("{VIEWS}x1"), format!("{}x{}", SIZE.0, SIZE.1));
     let mut layer = vec![
@@ -99,7 +118,7 @@ fn quilt(dir: &Path, shader: bool, mode: &str) -> (Image, String) {
     ];
     layer.extend(["--mode", mode, "--log", "info"]);
     layer.extend(dump_and_exit_at(&dump, "4"));
-    let args = probe_args(shader, "8");
+    let args = probe_args(variant, "8");
     let args: Vec<&str> = args.iter().map(String::as_str).collect();
     let out = under_layer(&layer, WINE, &args, &with_mesa_debug());
     assert_success(&out, &format!("probe.exe under the layer ({name})"));
@@ -155,10 +174,10 @@ fn assert_hud_still(q: &Image, plain: &Image, what: &str) {
 /// What exact mode must show of each variant: the centre view is the program's own frame,
 /// the parallax is mirrored and varies with depth, the HUD stays, the layer adds no GL error,
 /// auto-convergence finds the scene. Returns the quilt.
-fn exact_checks(dir: &Path, shader: bool) -> (Image, String) {
-    let what = if shader { "vs_2_0" } else { "fixed function" };
-    let (plain, plain_err) = plain(dir, shader);
-    let (q, err) = quilt(dir, shader, "exact");
+fn exact_checks(dir: &Path, variant: Variant) -> (Image, String) {
+    let what = variant.name();
+    let (plain, plain_err) = plain(dir, variant);
+    let (q, err) = quilt(dir, variant, "exact");
     let centre = tile(&q, VIEWS, 1, VIEWS / 2);
     assert!(
         centre.rgb == plain.rgb,
@@ -177,10 +196,26 @@ fn exact_checks(dir: &Path, shader: bool) -> (Image, String) {
 #[test]
 fn d3d9_fixed_function_and_vertex_shaders_show_depth_under_wine() {
     let dir = temp_dir("wine_d3d9_exact");
-    let (fixed, _) = exact_checks(&dir, false);
-    let (shader, err) = exact_checks(&dir, true);
-    // wined3d's vs_c rows cannot be read as a matrix; the fitted model must find the probe's
-    // own near plane (0.5) and far plane (100), so both variants converge alike.
+    let (fixed, _) = exact_checks(&dir, Variant::Fixed);
+    // One matrix in wined3d's vs_c: read from its rows (its depth terms are Direct3D's,
+    // which the shader remaps, so the depth model is fitted either way).
+    let (shader, err) = exact_checks(&dir, Variant::Shader);
+    assert!(
+        err.contains("projection read from the vec4 array vs_c[0..3] (its rows)"),
+        "the vs_c matrix was not read:\n{err}"
+    );
+    // Two: neither is taken; the fitted model finds the probe's near plane (0.5) all the same.
+    let (world, err) = exact_checks(&dir, Variant::World);
+    assert!(
+        !err.contains("projection read from the vec4 array"),
+        "a guess between two matrices:\n{err}"
+    );
+    for (q, what) in [(&shader, "vs_2_0"), (&world, "vs_2_0 with two matrices")] {
+        assert!(
+            fixed.rgb == q.rgb,
+            "the {what} quilt differs from the fixed-function one"
+        );
+    }
     let line = err
         .lines()
         .find(|l| l.contains("depth model fitted"))
@@ -197,18 +232,14 @@ fn d3d9_fixed_function_and_vertex_shaders_show_depth_under_wine() {
         (near - 0.5).abs() < 0.01,
         "fitted near plane {near}, the probe's is 0.5"
     );
-    assert!(
-        fixed.rgb == shader.rgb,
-        "the vs_2_0 quilt differs from the fixed-function one"
-    );
 }
 
 #[test]
 fn d3d9_synthesis_agrees_with_exact_under_wine() {
     let dir = temp_dir("wine_d3d9_synth");
-    let (plain, _) = plain(&dir, true);
-    let (exact, _) = quilt(&dir, true, "exact");
-    let (synth, err) = quilt(&dir, true, "synth");
+    let (plain, _) = plain(&dir, Variant::Shader);
+    let (exact, _) = quilt(&dir, Variant::Shader, "exact");
+    let (synth, err) = quilt(&dir, Variant::Shader, "synth");
     assert!(
         err.contains("presented upside down"),
         "wined3d's flipped presentation not seen:\n{err}"
@@ -234,7 +265,7 @@ fn d3d9_synthesis_agrees_with_exact_under_wine() {
 /// `MALLOC_TOP_PAD_`).
 #[test]
 fn the_launcher_starts_wine_programs_20_times_out_of_20() {
-    let args = probe_args(false, "2");
+    let args = probe_args(Variant::Fixed, "2");
     let args: Vec<&str> = args.iter().map(String::as_str).collect();
     let mut started = 0;
     let mut failures = Vec::new();

@@ -341,6 +341,14 @@ fn remember(
     let projection_ubo = leftmost
         .filter(|n| projection_loc.is_none() && !n.starts_with("gl_"))
         .and_then(|n| super::ubo::find(gl, program, n));
+    // No matrix in the position's expression: one held in a vec4 array, if the program
+    // applies exactly one.
+    let vec4 = if leftmost.is_none() && analysis.position_kind != shader::PositionKind::Identity {
+        vec4_projection(gl, group, program)
+    } else {
+        None
+    };
+    let projection_loc = projection_loc.or(vec4.map(|(loc, _)| loc));
     let camera_chain: Vec<i32> = analysis
         .matrix_uniforms
         .iter()
@@ -370,6 +378,7 @@ fn remember(
         view_loc,
         remap_loc,
         projection_loc,
+        projection_vec4: vec4.map(|(_, rows)| rows),
         projection_ubo,
         builtin_projection: builtin,
         camera_chain,
@@ -383,6 +392,53 @@ fn remember(
         info.hidden_uniforms = own_uniform_indices(gl, program);
     }
     group.linked(program, info);
+}
+
+/// The projection of a program whose vertex shader objects apply exactly one matrix held in
+/// a vec4 array (`shader::vec4_matrix`; wined3d's `vs_c[]`): the location of its first
+/// element and whether the elements are rows. Several (a world matrix beside the
+/// world-view-projection) cannot be told apart here: the depth model is then fitted to what
+/// the program draws (`camera::depth_fit`).
+fn vec4_projection(gl: &Gl, group: &ShareGroup, program: u32) -> Option<(i32, bool)> {
+    let mut found: Vec<shader::vec4_matrix::Vec4Matrix> = Vec::new();
+    for s in attached_shaders(gl, program) {
+        if Stage::from_gl(shader_iv(gl, s, SHADER_TYPE) as u32) != Some(Stage::Vertex) {
+            continue;
+        }
+        for m in shader::analyse(&app_source(gl, group, s), Stage::Vertex).vec4_matrices {
+            if !found.contains(&m) {
+                found.push(m);
+            }
+        }
+    }
+    let [m] = found.as_slice() else {
+        if found.len() > 1 {
+            crate::log::debug(format_args!(
+                "program {program}: {} matrices in vec4 arrays, none known to be the projection",
+                found.len()
+            ));
+        }
+        return None;
+    };
+    let first = crate::gl::program::uniform(gl, program, &m.first_name());
+    let last = crate::gl::program::uniform(gl, program, &format!("{}[{}]", m.array, m.first + 3));
+    // Uploads are assembled from one call covering the four: their locations must be in a row.
+    if first < 0 || last != first + 3 {
+        return None;
+    }
+    crate::state::share::VEC4_PROJECTIONS.store(true, std::sync::atomic::Ordering::Relaxed);
+    crate::log::once_for(
+        ("vec4-projection", u64::from(program)),
+        crate::log::Level::Info,
+        format_args!(
+            "program {program}: projection read from the vec4 array {}[{}..{}] (its {})",
+            m.array,
+            m.first,
+            m.first + 3,
+            if m.rows { "rows" } else { "columns" }
+        ),
+    );
+    Some((first, m.rows))
 }
 
 /// Active-uniform indices of our uniforms in a linked program (found by name, which works from

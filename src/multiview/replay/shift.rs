@@ -60,7 +60,7 @@ pub fn of(gl: &Gl, app: &mut AppState, mv: &mut Multiview, group: &ShareGroup) -
             return Shift::None;
         }
         let p = app.fixed_projection(gl);
-        return match mode_of(program, Some(p), mv) {
+        return match mode_of(program, Some(p), true, mv) {
             m if m.is_perspective() => {
                 let infinity = fixed_attached(gl, app, mv, &p);
                 if let Some(r) = mv.reuse.as_mut().filter(|_| !infinity) {
@@ -82,7 +82,9 @@ pub fn of(gl: &Gl, app: &mut AppState, mv: &mut Multiview, group: &ShareGroup) -
     } else {
         info.projection_ubo.and_then(|m| ubo_projection(gl, app, program, m))
     };
-    let mode = mode_of(program, matrix, mv);
+    // A matrix read from a vec4 array (wined3d's `vs_c`) may be followed by the shader's own
+    // depth edit (Direct3D's [0, w] made GL's [-w, w]): its depth terms are not the draw's.
+    let mode = mode_of(program, matrix, info.projection_vec4.is_none(), mv);
     let infinity = mode.is_perspective() && !info.identity && program_attached(gl, app, mv, group, &info);
     if mode.is_perspective()
         && !info.identity
@@ -194,8 +196,9 @@ impl std::fmt::Display for ProgramName {
 }
 
 /// The shader-side projection mode of `matrix`; a perspective one also updates the camera
-/// estimate (depth model, focal scale, the bare camera projection).
-fn mode_of(program: u32, matrix: Option<[f32; 16]>, mv: &mut Multiview) -> ViewMode {
+/// estimate (focal scale and, when `depth` says its depth terms are the draw's, the depth
+/// model and the bare camera projection; else the depth model is fitted to what is drawn).
+fn mode_of(program: u32, matrix: Option<[f32; 16]>, depth: bool, mv: &mut Multiview) -> ViewMode {
     let name = ProgramName(program);
     let Some(p) = matrix.and_then(|m| projection::classify(&m)) else {
         crate::log::once_for(
@@ -207,6 +210,10 @@ fn mode_of(program: u32, matrix: Option<[f32; 16]>, mv: &mut Multiview) -> ViewM
     };
     if p.kind == ProjectionKind::Orthographic {
         return ViewMode::Orthographic;
+    }
+    if !depth {
+        mv.camera.last_fx = p.fx.or(mv.camera.last_fx);
+        return ViewMode::of(Some(&p));
     }
     let m = matrix.unwrap_or_default();
     if m[3] == 0.0 && m[7] == 0.0 && m[15] == 0.0 && m[11] < 0.0 {

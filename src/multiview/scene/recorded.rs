@@ -55,8 +55,8 @@ pub fn fit_depth_model(mv: &Multiview, record: &[f32], depths: &[f32]) -> Option
             ("depth-fitted", 0),
             crate::log::Level::Info,
             format_args!(
-                "projection unknown (no matrix read from the program's uniforms): depth model fitted to what \
-                 it draws, recorded parallax against depth at {} of {} pixels: near {:.6}, far {:.6}",
+                "depth model fitted to what the program draws (no projection with the draw's depth terms was \
+                 read), recorded parallax against depth at {} of {} pixels: near {:.6}, far {:.6}",
                 f.inliers,
                 f.candidates,
                 f.range.near(),

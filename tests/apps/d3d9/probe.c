@@ -4,7 +4,7 @@
  * most Direct3D 9 games do, and what wined3d turns into `vs_c[]` uniforms). Both variants
  * draw the same picture. Under Wine, wined3d translates it all into OpenGL.
  *
- *   probe.exe [--shader] [--size WxH] [--frames N] [--screenshot out.ppm]
+ *   probe.exe [--shader | --world] [--size WxH] [--frames N] [--screenshot out.ppm]
  *
  * The scene is static, so every frame is the same picture; --screenshot writes the last
  * frame's back buffer (binary PPM, top row first) before it is presented: the program's own
@@ -131,11 +131,29 @@ static mat4 perspective(float fovy, float aspect, float zn, float zf)
     return m;
 }
 
-/* vs_2_0: dcl_position v0; dcl_color v1; dp4 oPos.x..w, v0, c0..c3; mov oD0, v1. */
+/* vs_2_0: dcl_position v0; dcl_color v1; dp4 oPos.x..w, v0, c0..c3; mov oD0, v1. With
+ * --world, also dp4 oT0.x..w, v0, c4..c7 (a world position handed on, as lit shaders do): two
+ * matrices in the constants, and nothing tells which one is the projection. */
 static const DWORD vertex_shader[] = {
     0xfffe0200,
     0x0200001f, 0x80000000, 0x900f0000,
     0x0200001f, 0x8000000a, 0x900f0001,
+    0x03000009, 0xc0010000, 0x90e40000, 0xa0e40000,
+    0x03000009, 0xc0020000, 0x90e40000, 0xa0e40001,
+    0x03000009, 0xc0040000, 0x90e40000, 0xa0e40002,
+    0x03000009, 0xc0080000, 0x90e40000, 0xa0e40003,
+    0x02000001, 0xd00f0000, 0x90e40001,
+    0x0000ffff,
+};
+
+static const DWORD world_shader[] = {
+    0xfffe0200,
+    0x0200001f, 0x80000000, 0x900f0000,
+    0x0200001f, 0x8000000a, 0x900f0001,
+    0x03000009, 0xe0010000, 0x90e40000, 0xa0e40004,
+    0x03000009, 0xe0020000, 0x90e40000, 0xa0e40005,
+    0x03000009, 0xe0040000, 0x90e40000, 0xa0e40006,
+    0x03000009, 0xe0080000, 0x90e40000, 0xa0e40007,
     0x03000009, 0xc0010000, 0x90e40000, 0xa0e40000,
     0x03000009, 0xc0020000, 0x90e40000, 0xa0e40001,
     0x03000009, 0xc0040000, 0x90e40000, 0xa0e40002,
@@ -177,11 +195,12 @@ static void screenshot(IDirect3DDevice9 *dev, const char *path, UINT w, UINT h)
 
 int main(int argc, char **argv)
 {
-    int use_shader = 0, frames = 5;
+    int use_shader = 0, world = 0, frames = 5;
     UINT width = 640, height = 480;
     const char *shot = NULL;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--shader")) use_shader = 1;
+        else if (!strcmp(argv[i], "--world")) use_shader = world = 1;
         else if (!strcmp(argv[i], "--frames") && i + 1 < argc) frames = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--size") && i + 1 < argc) {
             if (sscanf(argv[++i], "%ux%u", &width, &height) != 2 || !width || !height) {
@@ -190,7 +209,7 @@ int main(int argc, char **argv)
             }
         } else if (!strcmp(argv[i], "--screenshot") && i + 1 < argc) shot = argv[++i];
         else {
-            fprintf(stderr, "probe: unknown argument %s\nusage: probe.exe [--shader] [--size WxH] [--frames N] [--screenshot out.ppm]\n", argv[i]);
+            fprintf(stderr, "probe: unknown argument %s\nusage: probe.exe [--shader | --world] [--size WxH] [--frames N] [--screenshot out.ppm]\n", argv[i]);
             return 2;
         }
     }
@@ -239,7 +258,7 @@ int main(int argc, char **argv)
 
     IDirect3DVertexShader9 *vs = NULL;
     if (use_shader) {
-        hr = IDirect3DDevice9_CreateVertexShader(dev, vertex_shader, &vs);
+        hr = IDirect3DDevice9_CreateVertexShader(dev, world ? world_shader : vertex_shader, &vs);
         if (FAILED(hr)) die("CreateVertexShader", hr);
     }
     /* The HUD: a bar and a square in the top-left corner, in screen pixels. */
@@ -266,6 +285,7 @@ int main(int argc, char **argv)
         if (use_shader) {
             IDirect3DDevice9_SetVertexShader(dev, vs);
             IDirect3DDevice9_SetVertexShaderConstantF(dev, 0, &rows[0][0], 4);
+            IDirect3DDevice9_SetVertexShaderConstantF(dev, 4, &identity.m[0][0], 4);
         } else {
             IDirect3DDevice9_SetTransform(dev, D3DTS_WORLD, (const D3DMATRIX *)&identity);
             IDirect3DDevice9_SetTransform(dev, D3DTS_VIEW, (const D3DMATRIX *)&view);

@@ -117,3 +117,56 @@ pub(crate) fn glProgramUniformMatrix4fv(
         track_matrix(Some(program), loc, transpose, first);
     }
 }
+
+/// A `vec4` array upload that covers all four elements of a program's projection held there
+/// (`ProgramInfo::projection_vec4`, wined3d's `vs_c[]`) is that matrix's upload. Only
+/// looked at once such a program was linked.
+fn track_vec4(program: Option<u32>, loc: GLint, count: GLsizei, value: *const GLfloat) {
+    if !crate::state::share::VEC4_PROJECTIONS.load(std::sync::atomic::Ordering::Relaxed) || loc < 0 || count < 4 {
+        return;
+    }
+    crate::state::with_current(|cur| {
+        let cur = cur?;
+        let mut tracked = cur.ctx.tracked()?;
+        let app = tracked.app.as_mut()?;
+        let program = program.unwrap_or(app.program);
+        let (first, rows) = cur.ctx.group.vec4_projection(program)?;
+        if first < loc || first + 4 > loc.saturating_add(count) {
+            return None;
+        }
+        // SAFETY: glUniform4fv reads `count` vec4s from `value`.
+        let all = unsafe { super::super::app_slice(value, count.saturating_mul(4)) };
+        let at = (first - loc) as usize * 4;
+        let m: &[f32; 16] = all.get(at..at + 16)?.try_into().ok()?;
+        // Rows laid out one after another are the matrix transposed, as GL reads it.
+        let m = column_major(m, GLboolean::from(rows));
+        let before = cur.ctx.group.uploaded(program, first, m);
+        app.current.uploaded(program, first, m, before);
+        Some(())
+    });
+}
+
+pub(crate) fn glUniform4fv(
+    real: impl Fn(GLint, GLsizei, *const GLfloat),
+    loc: GLint,
+    count: GLsizei,
+    value: *const GLfloat,
+) {
+    real(loc, count, value);
+    if crate::config::settings().multiview() {
+        track_vec4(None, loc, count, value);
+    }
+}
+
+pub(crate) fn glProgramUniform4fv(
+    real: impl Fn(GLuint, GLint, GLsizei, *const GLfloat),
+    program: GLuint,
+    loc: GLint,
+    count: GLsizei,
+    value: *const GLfloat,
+) {
+    real(program, loc, count, value);
+    if crate::config::settings().multiview() {
+        track_vec4(Some(program), loc, count, value);
+    }
+}
