@@ -275,3 +275,15 @@ fn non_rasterizing_stages_and_odd_sources_are_refused() {
         Err("no main()".to_string())
     );
 }
+
+#[test]
+fn wined3d_s_vs_c_rows_are_found_in_the_whole_shader() {
+    let src = std::fs::read_to_string(corpus_dir().join("wined3d_vs_2_0.vert")).unwrap();
+    let a = analyse(&src, Stage::Vertex);
+    let want = super::vec4_matrix::Vec4Matrix {
+        array: "vs_c".into(),
+        first: 0,
+        rows: true,
+    };
+    assert_eq!(a.vec4_matrices, vec![want]);
+}

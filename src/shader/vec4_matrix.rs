@@ -230,17 +230,6 @@ mod tests {
     }
 
     #[test]
-    fn wined3d_s_whole_shader_parses_and_gives_its_rows() {
-        let src = include_str!("../../tests/shaders/wined3d_vs_2_0.vert");
-        let a = crate::shader::analyse(src, crate::shader::Stage::Vertex);
-        assert!(a.parsed, "{:?}", crate::shader::parse_error(src));
-        assert_eq!(a.vec4_matrices, vec![rows("vs_c", 0)]);
-        // gl_Position is written in another object (`setup_vs_output`); the edits this one
-        // makes after the call work on a value it cannot see.
-        assert_eq!(a.position_kind, crate::shader::PositionKind::Unknown);
-    }
-
-    #[test]
     fn a_second_matrix_and_the_argument_order() {
         let src = "#version 330\nuniform vec4 c[16];\nin vec4 p;\nout vec4 world;\nvoid main()\n{\n\
                    world.x = dot(c[4], p); world.y = dot(c[5], p); world.z = dot(c[6], p); world.w = dot(c[7], p);\n\
