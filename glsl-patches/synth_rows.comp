@@ -6,7 +6,10 @@
 // the threshold it is warped as one piece (colour and depth interpolated between the two
 // centres, exact for planes); where they differ by more it is a depth edge, each pixel keeps
 // its own half-pixel footprint, and a gap opening between them (a disocclusion) is filled with
-// the farther of the two, pushed back so that anything actually seen there wins.
+// the farther of the two, pushed back so that anything actually seen there wins. The row is
+// made as a merge of the source walk and the target walk in occlusion order (`scan`): each
+// target pixel written once, without reading back, in lock-step across the rows a SIMD
+// machine runs side by side.
 layout(local_size_x = 32) in;
 
 // Sources and targets as plain storage (llvmpipe's loads and stores cost a fraction of its
@@ -71,9 +74,17 @@ bool second;
 const uint HOLE = 0x80000000u;
 const uint SECOND = 0x40000000u;
 
+// The row's first scan writes every target pixel exactly once (`scan`), so it neither clears
+// the row first nor reads anything back.
+bool first_scan;
+
 void put(int x, vec4 c, float z, bool hole)
 {
     int i = out_base + x;
+    if (first_scan) {
+        out_pixels[i] = Out(packUnorm4x8(c), uintBitsToFloat(floatBitsToUint(z) | (hole ? HOLE : 0u)));
+        return;
+    }
     uint e = floatBitsToUint(out_pixels[i].depth);
     float was = uintBitsToFloat(e & ~(HOLE | SECOND));
     bool write;
@@ -111,69 +122,151 @@ void row_done(bool marked)
     }
 }
 
-// Target pixels whose centres lie in [a, b), clamped to the row.
-ivec2 covered(float a, float b)
+// One source pixel as the scan holds it: where it lands (NaN, infinite or absurd positions,
+// points at the camera, are not `ok`), its disparity, colour and depth.
+struct Landed {
+    float X;
+    float d;
+    uint color;
+    float z;
+    bool ok;
+};
+
+// Source pixel `i` of the scan; `dir` -1 mirrors the row, so that nearer pixels always move
+// to the right of the scan (see `scan`).
+Landed land(int base, int i, float k, float f, float dir)
 {
-    return ivec2(max(int(ceil(a - 0.5)), 0), min(int(ceil(b - 0.5)), width));
+    Pixel s = src_pixels[base + (dir > 0.0 ? i : width - 1 - i)];
+    float d = dir * (k * s.parallax + f);
+    float X = float(i) + 0.5 + d;
+    bool ok = abs(X) < 1.0e6;
+    return Landed(ok ? X : -1.0e30, d, s.color, s.depth, ok);
 }
 
-// The span [a, b) filled with one colour and depth; `hole`: it is a stretch over a hole.
-void fill(float a, float b, vec4 c, float z, bool hole)
+// Target pixel `x` of the scan (mirrored like the sources) from the pair of source pixels
+// around it, `a` (left, landed at or before its centre) and `b` (the first to land after
+// it); `edge_a`/`edge_b`: the row ends there.
+void emit(int x, Landed a, Landed b, bool edge_a, bool edge_b, float dir)
 {
-    ivec2 r = covered(a, b);
-    for (int i = r.x; i < r.y; i++) {
-        put(i, c, z, hole);
+    float c = float(x) + 0.5;
+    // How much of b the pixel takes (0: all a), and whether it is a fill over a hole; chosen
+    // without branching into separate writes, which a SIMD machine would run one after another.
+    float w;
+    bool hole = false;
+    if (edge_a || !a.ok || edge_b || !b.ok) {
+        // Beyond the row's first or last landed pixel (or a position left out): that pixel
+        // keeps its half-pixel footprint and stretches over what opens up past it.
+        bool use_a = edge_b || !b.ok;
+        w = use_a ? 0.0 : 1.0;
+        float X = use_a ? a.X : b.X;
+        hole = !(use_a ? a.ok : b.ok) || abs(c - X) >= 0.5;
+    } else if (c >= b.X) {
+        // b's own right half (a depth edge follows it): nearer than what it hides there.
+        w = 1.0;
+    } else if (abs(b.d - a.d) <= u_threshold) {
+        w = clamp((c - a.X) / (b.X - a.X), 0.0, 1.0);
+    } else if (c < a.X + 0.5) {
+        w = 0.0;
+    } else if (c >= b.X - 0.5) {
+        w = 1.0;
+    } else {
+        // A disocclusion: the farther of the two, pushed back so that anything seen there wins.
+        w = nearer(b.z, a.z) ? 0.0 : 1.0;
+        hole = true;
     }
+    vec4 col = mix(unpackUnorm4x8(a.color), unpackUnorm4x8(b.color), w);
+    float z = mix(a.z, b.z, w);
+    if (hole && !(edge_a || !a.ok || edge_b || !b.ok)) {
+        z = clamp(z + u_far_bias, 0.0, 1.0);
+    }
+    put(dir > 0.0 ? x : width - 1 - x, col, z, hole);
 }
 
+// The target row from one source row as a merge of two sorted walks. Scanned in the
+// direction nearer pixels move, the surface seen at a target centre c is the first source
+// pixel b that lands beyond c (a nearer one landing there would have to come from further
+// along the row, i.e. move against its own direction) together with the one before it, a;
+// and b only ever moves forward as c does. So each step either takes the next source pixel
+// or writes the next target pixel: about one of each per step, no loop within a step, no
+// read of what was written: the lanes of a SIMD machine, each on its own row, stay in step
+// (the walk it replaces branched per pixel and read back every write for its depth test).
+// Cell (a, b), just passed by the scan, landed behind what was already written (up to the
+// centre `c`), between the first and last stretches over holes [h0, h1] (centres): where it
+// lands on a stretch, it is background the source saw, uncovered by a nearer piece that moved
+// away over a gap, which first-hit order cannot reach; elsewhere what is there is nearer.
+// Rare (cells hidden behind a nearer piece), so its read-back costs little.
+void over_holes(Landed a, Landed b, bool cont, float c, float h0, float h1, float dir)
+{
+    float lo = cont ? min(a.X, b.X) : b.X - 0.5;
+    float hi = cont ? max(a.X, b.X) : b.X + 0.5;
+    int x0 = max(int(ceil(max(lo, h0) - 0.5)), 0);
+    int x1 = min(int(ceil(min(hi, min(h1 + 0.5, c)) - 0.5)), width);
+    bool was = first_scan;
+    first_scan = false;
+    for (int x = x0; x < x1; x++) {
+        float w = cont ? clamp((float(x) + 0.5 - a.X) / (b.X - a.X), 0.0, 1.0) : 1.0;
+        vec4 col = mix(unpackUnorm4x8(a.color), unpackUnorm4x8(b.color), w);
+        put(dir > 0.0 ? x : width - 1 - x, col, mix(a.z, b.z, w), false);
+    }
+    first_scan = was;
+}
+
+// The target row from one source row as a merge of two sorted walks. Scanned in the
+// direction nearer pixels move, the surface seen at a target centre c is the first source
+// pixel b that lands beyond c (a nearer one landing there would have to come from further
+// along the row, i.e. move against its own direction) together with the one before it, a;
+// and b only ever moves forward as c does. So each step either takes the next source pixel
+// or writes the next target pixel: about one of each per step, no loop within a step, no
+// read of what was written: the lanes of a SIMD machine, each on its own row, stay in step
+// (the walk it replaces branched per pixel and read back every write for its depth test).
+// The one exception: where (a, b) is a gap, farther pixels from beyond the nearer piece may
+// land in it; they replace the stretch when the scan passes them (`over_holes`).
 void scan(int src, float du)
 {
     float k = du * u_px.x, f = du * u_px.y;
-    float px = 0.0, pz = 0.0, pd = 0.0;
-    vec4 pc = vec4(0.0);
-    bool have = false;
+    // Parallax grows with distance, so with k > 0 nearer pixels move left: mirror the row.
+    float dir = k > 0.0 ? -1.0 : 1.0;
     int base = (src * u_tile.y + row) * width;
-    for (int x = 0; x < width; x++) {
-        Pixel s = src_pixels[base + x];
-        float d = k * s.parallax + f;
-        float X = float(x) + 0.5 + d;
-        // NaN, infinite or absurd positions (points at the camera) are left out.
-        if (!(abs(X) < 1.0e6)) {
-            have = false;
-            continue;
-        }
-        vec4 c = unpackUnorm4x8(s.color);
-        float z = s.depth;
-        if (x == 0) {
-            // The border pixel also covers whatever opens up beyond the view's edge.
-            fill(-1.0e6, X - 0.5, c, z, true);
-            fill(X - 0.5, X, c, z, false);
-        } else if (!have) {
-            fill(X - 0.5, X, c, z, false);
-        } else if (abs(d - pd) <= u_threshold) {
-            ivec2 r = covered(min(px, X), max(px, X));
-            float inv = 1.0 / (X - px);
-            for (int i = r.x; i < r.y; i++) {
-                float t = clamp((float(i) + 0.5 - px) * inv, 0.0, 1.0);
-                put(i, mix(pc, c, t), mix(pz, z, t), false);
+    Landed a = land(base, 0, k, f, dir);
+    Landed b = a;
+    // The pixel after b: where (b, n) is a depth edge, b keeps its right half-pixel whatever
+    // lands under it, so b is passed only once c is beyond X + 1/2 ("reach").
+    Landed n = land(base, min(1, width - 1), k, f, dir);
+    int t = 0;
+    int x = 0;
+    // Centres of the first and last stretched pixels written between two landed ones, and the
+    // furthest any passed pixel landed: a cell behind it landed under what was already
+    // written, where it can only replace stretches.
+    float h0 = 1.0e30, h1 = -1.0e30;
+    float front = -1.0e30;
+    for (int step = 0; step < 2 * width + 2 && x < width; step++) {
+        float c = float(x) + 0.5;
+        bool edge_after = t + 1 >= width || !n.ok || abs(n.d - b.d) > u_threshold;
+        float reach = b.X + (edge_after ? 0.5 : 0.0);
+        if (t < width && reach <= c) {
+            if (t > 0 && a.ok && b.ok && b.X < front - 0.5 && b.X + 0.5 > h0 && min(a.X, b.X) < h1 + 0.5) {
+                over_holes(a, b, abs(b.d - a.d) <= u_threshold, c, h0, h1, dir);
             }
-        } else {
-            fill(px, px + 0.5, pc, pz, false);
-            fill(X - 0.5, X, c, z, false);
-            if (X - px > 1.0) {
-                bool back = nearer(z, pz);
-                fill(px + 0.5, X - 0.5, back ? pc : c, clamp((back ? pz : z) + u_far_bias, 0.0, 1.0), true);
+            front = max(front, b.X);
+            a = b;
+            b = n;
+            t++;
+            if (t + 1 < width) {
+                n = land(base, t + 1, k, f, dir);
             }
+            edge_after = t + 1 >= width || !n.ok || abs(n.d - b.d) > u_threshold;
+            reach = b.X + (edge_after ? 0.5 : 0.0);
         }
-        if (x == width - 1) {
-            fill(X, X + 0.5, c, z, false);
-            fill(X + 0.5, 1.0e6, c, z, true);
+        if (t >= width || reach > c) {
+            bool gap = t > 0 && t < width && a.ok && b.ok && abs(b.d - a.d) > u_threshold
+                && c >= a.X + 0.5 && c < b.X - 0.5;
+            if (gap) {
+                h0 = min(h0, c);
+                h1 = c;
+            }
+            emit(x, a, b, t == 0, t >= width, dir);
+            x++;
         }
-        px = X;
-        pz = z;
-        pd = d;
-        pc = c;
-        have = true;
     }
 }
 
@@ -186,16 +279,13 @@ void main()
         return;
     }
     out_base = (layer * u_tile.y + row) * width;
-    // Nothing landed yet: the far plane, marked as a hole.
-    float far = uintBitsToFloat(floatBitsToUint(u_reversed == 1 ? 0.0 : 1.0) | 0x80000000u);
-    for (int x = 0; x < width; x++) {
-        out_pixels[out_base + x] = Out(0u, far);
-    }
+    first_scan = true;
     Target t = targets[layer];
     bool two = t.src.z == 2;
     if (u_second_fills_holes == 1) {
         second = false;
         scan(t.src.y, t.du.y);
+        first_scan = false;
         second = two;
         if (two) {
             scan(t.src.x, t.du.x);
@@ -206,6 +296,7 @@ void main()
         second = false;
         if (two) {
             scan(t.src.x, t.du.x);
+            first_scan = false;
         }
         scan(t.src.y, t.du.y);
         row_done(false);
