@@ -21,6 +21,13 @@ pub struct Info {
     pub constant: bool,
     /// Something we cannot follow took part.
     pub unknown: bool,
+    /// Read from a uniform array of vectors (a constant register file: Direct3D's constant
+    /// buffers as wined3d declares them, `vec4 c[N]` of engines that upload matrices so).
+    pub from_array: bool,
+    /// Such an array's values multiplied with run-time data: a transform written out in
+    /// components (`R.x = v.x * c[0].x + v.y * c[1].x + …`, as shader compilers scalarise
+    /// `mul(v, M)`), which no matrix type names. Not a pass-through: the position is unknown.
+    pub transformed: bool,
 }
 
 impl Info {
@@ -70,6 +77,8 @@ impl Info {
             far: false,
             constant: a.constant && b.constant,
             unknown: a.unknown || b.unknown,
+            from_array: a.from_array || b.from_array,
+            transformed: a.transformed || b.transformed,
         }
     }
 
@@ -77,7 +86,9 @@ impl Info {
     pub fn mult(a: Info, b: Info) -> Info {
         let transform = a.is_mat4 != b.is_mat4;
         let both = a.is_mat4 && b.is_mat4;
+        let written_out = (a.from_array && !b.constant) || (b.from_array && !a.constant);
         let mut out = Info::combine(a, b);
+        out.transformed |= written_out;
         out.mat_mul |= transform;
         out.is_mat4 = both;
         out

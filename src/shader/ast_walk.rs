@@ -20,14 +20,26 @@ use super::findings::Findings;
 pub fn walk(tu: &ast::TranslationUnit) -> Findings {
     let prog = Program::collect(tu);
     let mut findings = Findings::default();
-    for defs in prog.functions.values() {
+    let mut walked = Vec::new();
+    let mut inlined = std::collections::HashSet::new();
+    for (name, defs) in &prog.functions {
         for def in defs {
             let mut scope = Scope::new(&prog, true, 0);
             scope.walk_compound(&def.statement.statement_list);
             findings.writes_layer |= scope.writes_layer;
-            for info in &scope.writes {
-                findings.add_write(info.kind(), &info.matrices);
-            }
+            inlined.extend(scope.inlined.drain());
+            walked.push((name, scope.writes));
+        }
+    }
+    // A function that writes `gl_Position` from its parameters (wined3d's
+    // `setup_vs_output(vs_out)`) counts where it is called, with its arguments' values; alone,
+    // its parameters would look like plain data.
+    for (name, writes) in walked {
+        if inlined.contains(name.as_str()) {
+            continue;
+        }
+        for info in &writes {
+            findings.add_write(info.kind(), &info.matrices);
         }
     }
     findings
@@ -43,6 +55,8 @@ struct Scope<'p, 'a> {
     /// False while evaluating a call's return value: its writes are counted by its own walk.
     record: bool,
     depth: usize,
+    /// Functions whose `gl_Position` writes were taken into this walk at their call.
+    inlined: std::collections::HashSet<String>,
 }
 
 impl<'p, 'a> Scope<'p, 'a> {
@@ -56,6 +70,7 @@ impl<'p, 'a> Scope<'p, 'a> {
             returns: Vec::new(),
             record,
             depth,
+            inlined: std::collections::HashSet::new(),
         }
     }
 
@@ -147,6 +162,7 @@ impl<'p, 'a> Scope<'p, 'a> {
             ExprData::FunCall(f, args) => {
                 args.iter().for_each(|a| self.effects(a));
                 self.external_call(f);
+                self.inline_position(f, args);
             }
             _ => {}
         }
@@ -160,6 +176,42 @@ impl<'p, 'a> Scope<'p, 'a> {
             && self.prog.declared_only.contains(id.as_str())
         {
             self.env.insert("gl_Position".to_string(), Info::unknown());
+        }
+    }
+
+    /// A call of a function of this object that writes `gl_Position`: its write, with its
+    /// parameters bound to the arguments, is a whole write here.
+    fn inline_position(&mut self, f: &ast::FunIdentifier, args: &[ast::Expr]) {
+        let FunIdentifierData::Expr(e) = &**f else { return };
+        let ExprData::Variable(id) = &***e else { return };
+        let Some(defs) = self.prog.functions.get(id.as_str()) else {
+            return;
+        };
+        if self.depth >= 8 || !self.prog.spend_call() {
+            return;
+        }
+        let arg_infos: Vec<Info> = args.iter().map(|a| self.eval(a)).collect();
+        let mut written: Option<Info> = None;
+        for def in defs.iter().filter(|d| d.prototype.parameters.len() == args.len()) {
+            let mut scope = Scope::new(self.prog, false, self.depth + 1);
+            for (param, info) in def.prototype.parameters.iter().zip(&arg_infos) {
+                if let ast::FunctionParameterDeclarationData::Named(_, p) = &**param {
+                    scope.env.insert(p.ident.ident.as_str().to_string(), info.clone());
+                }
+            }
+            scope.walk_compound(&def.statement.statement_list);
+            if let Some(info) = scope.env.remove("gl_Position") {
+                written = Some(match written {
+                    None => info,
+                    Some(acc) => Info::combine(acc, info),
+                });
+            }
+        }
+        let Some(info) = written else { return };
+        self.inlined.insert(id.as_str().to_string());
+        self.env.insert("gl_Position".to_string(), info.clone());
+        if self.record {
+            self.writes.push(info);
         }
     }
 
@@ -319,6 +371,10 @@ impl<'p, 'a> Scope<'p, 'a> {
 fn sym_info(sym: &Sym) -> Info {
     match (sym.uniform, sym.is_mat4, sym.constant) {
         (true, true, _) => Info::matrix(&sym.gl_name),
+        (true, false, false) if sym.is_array => Info {
+            from_array: true,
+            ..Info::data()
+        },
         (_, _, true) => Info::constant(),
         (_, true, _) => Info {
             is_mat4: true,
@@ -343,7 +399,7 @@ impl Info {
             PositionKind::FarPlane
         } else if self.mat_mul || !self.matrices.is_empty() {
             PositionKind::MatrixMultiply
-        } else if self.unknown {
+        } else if self.unknown || self.transformed {
             PositionKind::Unknown
         } else if self.constant {
             PositionKind::Constant

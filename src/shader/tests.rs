@@ -142,6 +142,10 @@ fn cases() -> Vec<Case> {
         // Wine 8.0 wined3d, a vs_2_0 shader: 20 #extension lines glsl-lang does not know, and
         // gl_Position written by a function of another shader object.
         ok("wined3d_vs_2_0.vert", Unknown, &[]),
+        // Its Direct3D 11 path, an HLSL `mul(float4(p, 1), wvp)` with the matrix in a constant
+        // buffer (a uniform block of vec4s), scalarised through registers: products of the
+        // array with the vertex, not a pass-through.
+        ok("wined3d_vs_4_0.vert", Unknown, &[]),
     ]
 }
 

@@ -1,6 +1,9 @@
 //! Windows programs under Wine (DESIGN §1: any OpenGL program, Wine's included): a Direct3D 9
-//! program (`tests/apps/d3d9/probe.c`, built here with Debian's mingw-w64) that Wine's
-//! wined3d draws through OpenGL, in its fixed-function and its `vs_2_0` variant.
+//! program (`tests/apps/wine/d3d9.c`, built here with Debian's mingw-w64) that Wine's
+//! wined3d draws through OpenGL, in its fixed-function and its `vs_2_0` variant, and a
+//! Direct3D 11 program of the same scene (`tests/apps/wine/d3d11.c`, HLSL compiled at run
+//! time), which reaches OpenGL by wined3d's other route: shader model 4 translated to GLSL
+//! with the matrix in a uniform block, scalarised, and viewports set as viewport arrays.
 //!
 //! wined3d is a demanding OpenGL program: its vertex shader's matrix is a `vec4 vs_c[256]`
 //! constant array applied in one shader object and written to `gl_Position` in another, its
@@ -18,22 +21,28 @@ const VIEWS: u32 = 5;
 /// The HUD the probe draws pre-transformed (XYZRHW) in the top-left corner, with a margin.
 const HUD: (u32, u32, u32, u32) = (8, 8, 104, 68);
 
-/// `probe.exe`, built once per test run.
-fn probe() -> &'static Path {
-    static EXE: OnceLock<PathBuf> = OnceLock::new();
-    EXE.get_or_init(|| {
-        let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/apps/d3d9/probe.c");
-        let exe = Path::new(env!("CARGO_TARGET_TMPDIR")).join("d3d9-probe.exe");
-        let (src, out) = (src.to_str().unwrap(), exe.to_str().unwrap());
-        let flags = ["-O2", "-Wall", "-Wextra", "-Werror", "-o", out, src, "-ld3d9"];
-        let gcc = Path::new("x86_64-w64-mingw32-gcc");
-        let built = run(gcc, &flags, &[]);
-        assert_success(
-            &built,
-            "x86_64-w64-mingw32-gcc probe.c (package gcc-mingw-w64-x86-64, scripts/setup-debian.sh)",
-        );
-        exe
-    })
+/// The test program `name` (`tests/apps/wine/NAME.c`), built once per test run.
+fn exe(name: &'static str, libs: &[&str]) -> PathBuf {
+    static BUILT: OnceLock<std::sync::Mutex<std::collections::HashMap<&'static str, PathBuf>>> = OnceLock::new();
+    let built = BUILT.get_or_init(Default::default);
+    let mut built = built.lock().unwrap_or_else(|e| e.into_inner());
+    built
+        .entry(name)
+        .or_insert_with(|| {
+            let src = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("tests/apps/wine/{name}.c"));
+            let exe = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("{name}-probe.exe"));
+            let (src, out) = (src.to_str().unwrap(), exe.to_str().unwrap());
+            let mut flags = vec!["-O2", "-Wall", "-Wextra", "-Werror", "-o", out, src];
+            flags.extend(libs);
+            let gcc = Path::new("x86_64-w64-mingw32-gcc");
+            let built = run(gcc, &flags, &[]);
+            assert_success(
+                &built,
+                &format!("x86_64-w64-mingw32-gcc {name}.c (package gcc-mingw-w64-x86-64, scripts/setup-debian.sh)"),
+            );
+            exe
+        })
+        .clone()
 }
 
 /// A Wine prefix of this test run, made once (`wineboot`), and the environment that uses it.
@@ -64,13 +73,15 @@ fn with_mesa_debug() -> Vec<(&'static str, &'static str)> {
     env
 }
 
-/// The probe's variants: fixed function, a vs_2_0 shader with one matrix in its constants,
-/// and one with two (`--world`: which one is the projection cannot be told).
+/// The programs: Direct3D 9 with fixed function, with a vs_2_0 shader with one matrix in its
+/// constants, and with one with two (`--world`: which one is the projection cannot be told);
+/// Direct3D 11.
 #[derive(Clone, Copy, PartialEq)]
 enum Variant {
     Fixed,
     Shader,
     World,
+    D3d11,
 }
 
 impl Variant {
@@ -79,13 +90,18 @@ impl Variant {
             Variant::Fixed => "fixed",
             Variant::Shader => "shader",
             Variant::World => "world",
+            Variant::D3d11 => "d3d11",
         }
     }
 }
 
 fn probe_args(variant: Variant, frames: &str) -> Vec<String> {
-    let mut args = vec![probe().to_str().unwrap().to_string()];
-    if variant != Variant::Fixed {
+    let program = match variant {
+        Variant::D3d11 => exe("d3d11", &["-ld3d11", "-ld3dcompiler", "-ldxguid"]),
+        _ => exe("d3d9", &["-ld3d9"]),
+    };
+    let mut args = vec![program.to_str().unwrap().to_string()];
+    if matches!(variant, Variant::Shader | Variant::World) {
         args.push(format!("--{}", variant.name()));
     }
     args.extend([
@@ -104,7 +120,7 @@ fn plain(dir: &Path, variant: Variant) -> (Image, String) {
     args.extend(["--screenshot".into(), shot.to_str().unwrap().into()]);
     let args: Vec<&str> = args.iter().map(String::as_str).collect();
     let out = run(Path::new(WINE), &args, &with_mesa_debug());
-    assert_success(&out, "probe.exe without the layer");
+    assert_success(&out, &format!("{} without the layer", variant.name()));
     (read_ppm(&shot), stderr(&out))
 }
 
@@ -121,7 +137,7 @@ fn quilt(dir: &Path, variant: Variant, mode: &str) -> (Image, String) {
     let args = probe_args(variant, "8");
     let args: Vec<&str> = args.iter().map(String::as_str).collect();
     let out = under_layer(&layer, WINE, &args, &with_mesa_debug());
-    assert_success(&out, &format!("probe.exe under the layer ({name})"));
+    assert_success(&out, &format!("{name} under the layer"));
     assert_layer_loaded(&out);
     let png = dump.join(format!("f000004_qs{VIEWS}x1a{:.4}.png", SIZE.0 as f64 / SIZE.1 as f64));
     (read_png(&png), stderr(&out))
@@ -216,48 +232,80 @@ fn d3d9_fixed_function_and_vertex_shaders_show_depth_under_wine() {
             "the {what} quilt differs from the fixed-function one"
         );
     }
-    let line = err
-        .lines()
-        .find(|l| l.contains("depth model fitted"))
-        .unwrap_or_else(|| panic!("no fitted depth model:\n{err}"));
-    eprintln!("{line}");
-    let near: f64 = line
-        .split("near ")
-        .nth(1)
-        .and_then(|s| s.split(',').next())
-        .unwrap()
-        .parse()
-        .unwrap();
+    let near = fitted_near(&err);
     assert!(
         (near - 0.5).abs() < 0.01,
         "fitted near plane {near}, the probe's is 0.5"
     );
 }
 
+/// The near plane of the depth model fitted to what the program draws.
+fn fitted_near(err: &str) -> f64 {
+    let line = err
+        .lines()
+        .find(|l| l.contains("depth model fitted"))
+        .unwrap_or_else(|| panic!("no fitted depth model:\n{err}"));
+    eprintln!("{line}");
+    line.split("near ")
+        .nth(1)
+        .and_then(|s| s.split(',').next())
+        .unwrap()
+        .parse()
+        .unwrap()
+}
+
+/// wined3d's Direct3D 11 route: the vertex shader translated from shader model 4 keeps the
+/// matrix in a uniform block and applies it in scalar products through registers, written to
+/// `gl_Position` by a function it calls; viewports are set with `glViewportArrayv`. Before,
+/// the position read as a pass-through (every view the same) and the depth was copied from a
+/// stale 110x2 viewport.
 #[test]
-fn d3d9_synthesis_agrees_with_exact_under_wine() {
-    let dir = temp_dir("wine_d3d9_synth");
-    let (plain, _) = plain(&dir, Variant::Shader);
-    let (exact, _) = quilt(&dir, Variant::Shader, "exact");
-    let (synth, err) = quilt(&dir, Variant::Shader, "synth");
+fn d3d11_shows_depth_under_wine() {
+    let dir = temp_dir("wine_d3d11_exact");
+    let (_, err) = exact_checks(&dir, Variant::D3d11);
+    let near = fitted_near(&err);
+    assert!(
+        (near - 0.5).abs() < 0.01,
+        "fitted near plane {near}, the probe's is 0.5"
+    );
+}
+
+/// `synth` against `exact` on `variant`: the depth read in the orientation wined3d draws it,
+/// the blocks where exact puts them, the HUD still.
+fn synthesis_agrees_with_exact(variant: Variant) {
+    let what = variant.name();
+    let dir = temp_dir(&format!("wine_synth_{what}"));
+    let (plain, _) = plain(&dir, variant);
+    let (exact, _) = quilt(&dir, variant, "exact");
+    let (synth, err) = quilt(&dir, variant, "synth");
     assert!(
         err.contains("presented upside down"),
-        "wined3d's flipped presentation not seen:\n{err}"
+        "{what}: wined3d's flipped presentation not seen:\n{err}"
     );
     let psnr = tile_psnr(&exact, &synth, VIEWS, 1);
-    eprintln!("synth against exact, per view: {psnr:.1?} dB");
+    eprintln!("{what}: synth against exact, per view: {psnr:.1?} dB");
     // Measured 34.5 dB on the outer views; with the depth read unflipped 22.4 (3x3 of
     // 640x480), with the HUD warped by the sky's disparity 28.3.
     for (i, p) in psnr.iter().enumerate() {
-        assert!(*p >= 31.0, "view {i}: synth {p:.1} dB from exact");
+        assert!(*p >= 31.0, "{what}: view {i}: synth {p:.1} dB from exact");
     }
     let a = agreement(&exact, &synth, (VIEWS, 1), 8.0, 40);
-    eprintln!("block agreement: {a:?}");
+    eprintln!("{what}: block agreement: {a:?}");
     assert!(
         a.matched >= 20 && a.agree_pct >= 90.0,
-        "synth moves the blocks elsewhere than exact: {a:?}"
+        "{what}: synth moves the blocks elsewhere than exact: {a:?}"
     );
-    assert_hud_still(&synth, &plain, "synth");
+    assert_hud_still(&synth, &plain, &format!("{what}: synth"));
+}
+
+#[test]
+fn d3d9_synthesis_agrees_with_exact_under_wine() {
+    synthesis_agrees_with_exact(Variant::Shader);
+}
+
+#[test]
+fn d3d11_synthesis_agrees_with_exact_under_wine() {
+    synthesis_agrees_with_exact(Variant::D3d11);
 }
 
 /// Wine starts helper processes (wineserver, services, explorer): a launcher that changed

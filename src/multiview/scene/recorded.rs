@@ -49,6 +49,19 @@ pub fn fit_depth_model(mv: &Multiview, record: &[f32], depths: &[f32]) -> Option
         .zip(depths)
         .filter(|(r, _)| r[1] > 0.5)
         .map(|(r, &d)| (r[0], d));
+    if crate::log::enabled(crate::log::Level::Trace) {
+        let recorded: Vec<(f32, f32)> = samples.clone().collect();
+        let (lo, hi) = recorded
+            .iter()
+            .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), &(p, _)| {
+                (lo.min(p), hi.max(p))
+            });
+        crate::log::trace(format_args!(
+            "depth fit: {} of {} pixels recorded, parallax {lo}..{hi}, convergence {c}",
+            recorded.len(),
+            depths.len()
+        ));
+    }
     let fitted = crate::camera::depth_fit::fit(samples, c);
     match fitted {
         Some(f) => crate::log::once_for(

@@ -74,6 +74,91 @@ pub(crate) fn glScissor(real: impl Fn(GLint, GLint, GLsizei, GLsizei), x: GLint,
     real(x, y, w, h)
 }
 
+/// Viewport 0 as whole pixels (the layer maps tiles and copies depth in pixels; a blitter's
+/// half-pixel offsets round away).
+fn viewport_0(v: [GLfloat; 4]) {
+    if v.iter().all(|c| c.is_finite()) {
+        let r = v.map(|c| c.round() as GLint);
+        crate::state::with_app(|app| app.viewport = r);
+    }
+}
+
+pub(crate) fn glViewportArrayv(
+    real: impl Fn(GLuint, GLsizei, *const GLfloat),
+    first: GLuint,
+    n: GLsizei,
+    v: *const GLfloat,
+) {
+    if first == 0 {
+        // SAFETY: the app passes `n` viewports of four floats; read before the real call.
+        let all = unsafe { super::super::app_slice(v, n.saturating_mul(4)) };
+        if let Some(c) = all.first_chunk::<4>() {
+            viewport_0(*c);
+        }
+    }
+    real(first, n, v)
+}
+
+pub(crate) fn glViewportIndexedf(
+    real: impl Fn(GLuint, GLfloat, GLfloat, GLfloat, GLfloat),
+    i: GLuint,
+    x: GLfloat,
+    y: GLfloat,
+    w: GLfloat,
+    h: GLfloat,
+) {
+    if i == 0 {
+        viewport_0([x, y, w, h]);
+    }
+    real(i, x, y, w, h)
+}
+
+pub(crate) fn glViewportIndexedfv(real: impl Fn(GLuint, *const GLfloat), i: GLuint, v: *const GLfloat) {
+    // SAFETY: four floats, as the call's contract says.
+    if let (0, Some(c)) = (i, unsafe { super::super::app_slice(v, 4) }.first_chunk::<4>()) {
+        viewport_0(*c);
+    }
+    real(i, v)
+}
+
+pub(crate) fn glScissorArrayv(
+    real: impl Fn(GLuint, GLsizei, *const GLint),
+    first: GLuint,
+    n: GLsizei,
+    v: *const GLint,
+) {
+    if first == 0 {
+        // SAFETY: `n` boxes of four integers; read before the real call.
+        let all = unsafe { super::super::app_slice(v, n.saturating_mul(4)) };
+        if let Some(c) = all.first_chunk::<4>() {
+            crate::state::with_app(|app| app.scissor = *c);
+        }
+    }
+    real(first, n, v)
+}
+
+pub(crate) fn glScissorIndexed(
+    real: impl Fn(GLuint, GLint, GLint, GLsizei, GLsizei),
+    i: GLuint,
+    x: GLint,
+    y: GLint,
+    w: GLsizei,
+    h: GLsizei,
+) {
+    if i == 0 {
+        crate::state::with_app(|app| app.scissor = [x, y, w, h]);
+    }
+    real(i, x, y, w, h)
+}
+
+pub(crate) fn glScissorIndexedv(real: impl Fn(GLuint, *const GLint), i: GLuint, v: *const GLint) {
+    // SAFETY: four integers, as the call's contract says.
+    if let (0, Some(c)) = (i, unsafe { super::super::app_slice(v, 4) }.first_chunk::<4>()) {
+        crate::state::with_app(|app| app.scissor = *c);
+    }
+    real(i, v)
+}
+
 /// A clear (`depth`: of the depth buffer too), per tile or layer; a scene depth it would
 /// erase is copied first for auto-convergence.
 fn clear_tiles(depth: bool, f: impl Fn()) {
