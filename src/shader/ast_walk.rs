@@ -187,26 +187,13 @@ impl<'p, 'a> Scope<'p, 'a> {
         let Some(defs) = self.prog.functions.get(id.as_str()) else {
             return;
         };
-        if self.depth >= 8 || !self.prog.spend_call() {
+        let Some(scopes) = self.called(defs, args) else {
             return;
-        }
-        let arg_infos: Vec<Info> = args.iter().map(|a| self.eval(a)).collect();
-        let mut written: Option<Info> = None;
-        for def in defs.iter().filter(|d| d.prototype.parameters.len() == args.len()) {
-            let mut scope = Scope::new(self.prog, false, self.depth + 1);
-            for (param, info) in def.prototype.parameters.iter().zip(&arg_infos) {
-                if let ast::FunctionParameterDeclarationData::Named(_, p) = &**param {
-                    scope.env.insert(p.ident.ident.as_str().to_string(), info.clone());
-                }
-            }
-            scope.walk_compound(&def.statement.statement_list);
-            if let Some(info) = scope.env.remove("gl_Position") {
-                written = Some(match written {
-                    None => info,
-                    Some(acc) => Info::combine(acc, info),
-                });
-            }
-        }
+        };
+        let written = scopes
+            .into_iter()
+            .filter_map(|mut s| s.env.remove("gl_Position"))
+            .reduce(Info::combine);
         let Some(info) = written else { return };
         self.inlined.insert(id.as_str().to_string());
         self.env.insert("gl_Position".to_string(), info.clone());
@@ -333,27 +320,38 @@ impl<'p, 'a> Scope<'p, 'a> {
 
     /// The value a user function returns, with its parameters bound to the arguments.
     fn eval_user_call(&self, defs: &[&ast::FunctionDefinition], args: &[ast::Expr]) -> Info {
+        // Recursion is illegal GLSL, but no input may hang us.
+        let Some(scopes) = self.called(defs, args) else {
+            return Info::unknown();
+        };
+        scopes
+            .into_iter()
+            .flat_map(|s| s.returns)
+            .reduce(Info::combine)
+            .unwrap_or_else(Info::unknown)
+    }
+
+    /// The bodies of the overloads of a call that take its number of arguments, walked with
+    /// their parameters bound to the arguments' values; `None` past the depth or call budget.
+    fn called(&self, defs: &[&'a ast::FunctionDefinition], args: &[ast::Expr]) -> Option<Vec<Scope<'p, 'a>>> {
         if self.depth >= 8 || !self.prog.spend_call() {
-            return Info::unknown(); // recursion is illegal GLSL, but no input may hang us
+            return None;
         }
         let arg_infos: Vec<Info> = args.iter().map(|a| self.eval(a)).collect();
-        let mut result: Option<Info> = None;
-        for def in defs.iter().filter(|d| d.prototype.parameters.len() == args.len()) {
-            let mut scope = Scope::new(self.prog, false, self.depth + 1);
-            for (param, info) in def.prototype.parameters.iter().zip(&arg_infos) {
-                if let ast::FunctionParameterDeclarationData::Named(_, p) = &**param {
-                    scope.env.insert(p.ident.ident.as_str().to_string(), info.clone());
+        let walked = defs
+            .iter()
+            .filter(|d| d.prototype.parameters.len() == args.len())
+            .map(|def| {
+                let mut scope = Scope::new(self.prog, false, self.depth + 1);
+                for (param, info) in def.prototype.parameters.iter().zip(&arg_infos) {
+                    if let ast::FunctionParameterDeclarationData::Named(_, p) = &**param {
+                        scope.env.insert(p.ident.ident.as_str().to_string(), info.clone());
+                    }
                 }
-            }
-            scope.walk_compound(&def.statement.statement_list);
-            for r in scope.returns {
-                result = Some(match result {
-                    None => r,
-                    Some(acc) => Info::combine(acc, r),
-                });
-            }
-        }
-        result.unwrap_or_else(Info::unknown)
+                scope.walk_compound(&def.statement.statement_list);
+                scope
+            });
+        Some(walked.collect())
     }
 
     /// The global symbol an lvalue-like path names (`u`, `block.member`, `s[i].m`), unless a
