@@ -37,7 +37,7 @@ if [ ${#missing[@]} -gt 0 ]; then
 fi
 # NVIDIA's FLIP for scripts/bench-trade.py is on PyPI only; the tests do not need it, so a
 # failure (no python3-pip, no network) only warns.
-python3 -c 'import flip_evaluator' 2>/dev/null || $sudo python3 -m pip install -q --break-system-packages flip-evaluator >/dev/null 2>&1 || echo "setup: warning: pip could not install flip-evaluator (python3-pip installed?): scripts/bench-trade.py reports no FLIP" >&2
+/usr/bin/python3 -c 'import flip_evaluator' 2>/dev/null || $sudo /usr/bin/python3 -m pip install -q --break-system-packages flip-evaluator >/dev/null 2>&1 || echo "setup: warning: pip could not install flip-evaluator (python3-pip installed?): scripts/bench-trade.py reports no FLIP" >&2
 
 if ! command -v cargo >/dev/null; then
   echo "setup: Rust is missing: install it with rustup (https://rustup.rs); Debian's cargo is too old for edition 2024" >&2
