@@ -31,6 +31,9 @@ pub struct Program<'a> {
     structs: HashMap<String, Vec<StructFieldSpecifier>>,
     /// User-function bodies evaluated so far (see `spend_call`).
     calls: std::cell::Cell<u32>,
+    /// Functions other than `main` that write `gl_Position` themselves (wined3d's
+    /// `setup_vs_output`): their write counts where they are called (`ast_walk::walk`).
+    pub position_writers: std::collections::HashSet<String>,
 }
 
 /// Most user-function bodies one analysis evaluates. Real shaders need tens; a function that

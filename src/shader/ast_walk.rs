@@ -18,31 +18,48 @@ use super::ast_values::{BUILTIN_MATRICES, Info, is_far_swizzle};
 use super::findings::Findings;
 
 pub fn walk(tu: &ast::TranslationUnit) -> Findings {
-    let prog = Program::collect(tu);
-    let mut findings = Findings::default();
-    let mut walked = Vec::new();
-    let mut inlined = std::collections::HashSet::new();
-    for (name, defs) in &prog.functions {
-        for def in defs {
-            let mut scope = Scope::new(&prog, true, 0);
-            scope.walk_compound(&def.statement.statement_list);
-            findings.writes_layer |= scope.writes_layer;
-            inlined.extend(scope.inlined.drain());
-            walked.push((name, scope.writes));
-        }
+    let mut prog = Program::collect(tu);
+    let (findings, writers) = walk_functions(&prog);
+    if writers.is_empty() {
+        return findings;
     }
     // A function that writes `gl_Position` from its parameters (wined3d's
     // `setup_vs_output(vs_out)`) counts where it is called, with its arguments' values; alone,
-    // its parameters would look like plain data.
+    // its parameters would look like plain data. Most shaders write it in `main` alone and are
+    // walked once.
+    prog.position_writers = writers;
+    walk_functions(&prog).0
+}
+
+/// Every function body walked on its own: what the `gl_Position` writes are (those of a
+/// function of `prog.position_writers` counted at its calls instead, where it has any), and
+/// which functions other than `main` write it.
+fn walk_functions(prog: &Program) -> (Findings, std::collections::HashSet<String>) {
+    let mut findings = Findings::default();
+    let mut writers = std::collections::HashSet::new();
+    let mut called = std::collections::HashSet::new();
+    let mut walked = Vec::new();
+    for (name, defs) in &prog.functions {
+        for def in defs {
+            let mut scope = Scope::new(prog, true, 0);
+            scope.walk_compound(&def.statement.statement_list);
+            findings.writes_layer |= scope.writes_layer;
+            if name != "main" && !scope.writes.is_empty() {
+                writers.insert(name.clone());
+            }
+            called.extend(scope.inlined.drain());
+            walked.push((name, scope.writes));
+        }
+    }
     for (name, writes) in walked {
-        if inlined.contains(name.as_str()) {
+        if called.contains(name) {
             continue;
         }
         for info in &writes {
             findings.add_write(info.kind(), &info.matrices);
         }
     }
-    findings
+    (findings, writers)
 }
 
 struct Scope<'p, 'a> {
@@ -55,7 +72,7 @@ struct Scope<'p, 'a> {
     /// False while evaluating a call's return value: its writes are counted by its own walk.
     record: bool,
     depth: usize,
-    /// Functions whose `gl_Position` writes were taken into this walk at their call.
+    /// Functions of `prog.position_writers` whose write was taken into this walk at a call.
     inlined: std::collections::HashSet<String>,
 }
 
@@ -184,6 +201,9 @@ impl<'p, 'a> Scope<'p, 'a> {
     fn inline_position(&mut self, f: &ast::FunIdentifier, args: &[ast::Expr]) {
         let FunIdentifierData::Expr(e) = &**f else { return };
         let ExprData::Variable(id) = &***e else { return };
+        if !self.prog.position_writers.contains(id.as_str()) {
+            return;
+        }
         let Some(defs) = self.prog.functions.get(id.as_str()) else {
             return;
         };

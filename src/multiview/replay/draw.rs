@@ -98,7 +98,7 @@ fn replay(
     let scissored = app.enabled(gl, SCISSOR_TEST);
     let records = if shift.camera() {
         super::record::wanted(app, mv)
-    } else if (overlay(&shift) || drawn_over_scene(&shift, app, mv)) && !app.enabled(gl, BLEND) {
+    } else if overlay(&shift, app, mv) && !app.enabled(gl, BLEND) {
         // An opaque draw through an orthographic matrix into the scene's own framebuffer is
         // an overlay (wined3d draws a game's HUD there, not into the window): recorded as
         // on the screen plane, so the warps keep it in place. Not for auto-convergence
@@ -428,24 +428,22 @@ fn load_projection(gl: &Gl, m: &[f32; 16], app_mode: Option<u32>) {
     }
 }
 
-/// A draw whose positions are given in clip space (a pass-through vertex shader: a Direct3D
-/// 10/11 HUD under wined3d) into the scene's framebuffer after the camera drew there this
-/// frame: over the scene, as a HUD is. Exact mode leaves it unshifted, so the screen plane is
-/// the disparity exact gives it. Before the camera's draws (a full-screen pass that fills the
-/// target, a sky quad) it is not taken for one.
-fn drawn_over_scene(shift: &Shift, app: &AppState, mv: &Multiview) -> bool {
-    matches!(shift, Shift::Uniform { camera: false, .. })
-        && mv.scene.tracker.target == Some(app.draw_fbo)
-        && mv.scene.tracker.phase != crate::multiview::scene::tracker::Phase::Waiting
-}
-
-/// A draw through an orthographic projection of the program's (a HUD, an overlay).
-fn overlay(shift: &Shift) -> bool {
-    matches!(
-        shift,
+/// A draw over the scene (a HUD): through an orthographic projection of the program's, or
+/// with its positions given in clip space (a pass-through vertex shader: a Direct3D 10/11
+/// HUD under wined3d) into the scene's framebuffer after the camera drew there this frame.
+/// Exact mode leaves a clip-space draw unshifted, so the screen plane is the disparity exact
+/// gives it; before the camera's draws (a full-screen pass that fills the target, a sky quad)
+/// it is not taken for one.
+fn overlay(shift: &Shift, app: &AppState, mv: &Multiview) -> bool {
+    match shift {
         Shift::Uniform {
             mode: ViewMode::Orthographic,
             ..
+        } => true,
+        Shift::Uniform { camera: false, .. } => {
+            mv.scene.tracker.target == Some(app.draw_fbo)
+                && mv.scene.tracker.phase != crate::multiview::scene::tracker::Phase::Waiting
         }
-    )
+        _ => false,
+    }
 }

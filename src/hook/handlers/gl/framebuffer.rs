@@ -74,12 +74,27 @@ pub(crate) fn glScissor(real: impl Fn(GLint, GLint, GLsizei, GLsizei), x: GLint,
     real(x, y, w, h)
 }
 
+/// Box 0 (x, y, w, h) of the `n` boxes an array call sets from index `first`, if it sets it.
+///
+/// # Safety
+/// `v` is null or points to `n` boxes of four values, as the GL call requires.
+unsafe fn box_0<T: Copy>(first: GLuint, n: GLsizei, v: *const T) -> Option<[T; 4]> {
+    // SAFETY: the caller's guarantee; read before the real call.
+    let all = unsafe { super::super::app_slice(v, n.saturating_mul(4)) };
+    all.first_chunk::<4>().copied().filter(|_| first == 0)
+}
+
 /// Viewport 0 as whole pixels (the layer maps tiles and copies depth in pixels; a blitter's
 /// half-pixel offsets round away).
-fn viewport_0(v: [GLfloat; 4]) {
-    if v.iter().all(|c| c.is_finite()) {
-        let r = v.map(|c| c.round() as GLint);
-        crate::state::with_app(|app| app.viewport = r);
+fn viewport_0(v: Option<[GLfloat; 4]>) {
+    if let Some(v) = v.filter(|v| v.iter().all(|c| c.is_finite())) {
+        crate::state::with_app(|app| app.viewport = v.map(|c| c.round() as GLint));
+    }
+}
+
+fn scissor_0(b: Option<[GLint; 4]>) {
+    if let Some(b) = b {
+        crate::state::with_app(|app| app.scissor = b);
     }
 }
 
@@ -89,13 +104,8 @@ pub(crate) fn glViewportArrayv(
     n: GLsizei,
     v: *const GLfloat,
 ) {
-    if first == 0 {
-        // SAFETY: the app passes `n` viewports of four floats; read before the real call.
-        let all = unsafe { super::super::app_slice(v, n.saturating_mul(4)) };
-        if let Some(c) = all.first_chunk::<4>() {
-            viewport_0(*c);
-        }
-    }
+    // SAFETY: `n` viewports of four floats, as the call requires.
+    viewport_0(unsafe { box_0(first, n, v) });
     real(first, n, v)
 }
 
@@ -107,17 +117,13 @@ pub(crate) fn glViewportIndexedf(
     w: GLfloat,
     h: GLfloat,
 ) {
-    if i == 0 {
-        viewport_0([x, y, w, h]);
-    }
+    viewport_0(Some([x, y, w, h]).filter(|_| i == 0));
     real(i, x, y, w, h)
 }
 
 pub(crate) fn glViewportIndexedfv(real: impl Fn(GLuint, *const GLfloat), i: GLuint, v: *const GLfloat) {
-    // SAFETY: four floats, as the call's contract says.
-    if let (0, Some(c)) = (i, unsafe { super::super::app_slice(v, 4) }.first_chunk::<4>()) {
-        viewport_0(*c);
-    }
+    // SAFETY: one viewport of four floats, as the call requires.
+    viewport_0(unsafe { box_0(i, 1, v) });
     real(i, v)
 }
 
@@ -127,13 +133,8 @@ pub(crate) fn glScissorArrayv(
     n: GLsizei,
     v: *const GLint,
 ) {
-    if first == 0 {
-        // SAFETY: `n` boxes of four integers; read before the real call.
-        let all = unsafe { super::super::app_slice(v, n.saturating_mul(4)) };
-        if let Some(c) = all.first_chunk::<4>() {
-            crate::state::with_app(|app| app.scissor = *c);
-        }
-    }
+    // SAFETY: `n` boxes of four integers, as the call requires.
+    scissor_0(unsafe { box_0(first, n, v) });
     real(first, n, v)
 }
 
@@ -145,17 +146,13 @@ pub(crate) fn glScissorIndexed(
     w: GLsizei,
     h: GLsizei,
 ) {
-    if i == 0 {
-        crate::state::with_app(|app| app.scissor = [x, y, w, h]);
-    }
+    scissor_0(Some([x, y, w, h]).filter(|_| i == 0));
     real(i, x, y, w, h)
 }
 
 pub(crate) fn glScissorIndexedv(real: impl Fn(GLuint, *const GLint), i: GLuint, v: *const GLint) {
-    // SAFETY: four integers, as the call's contract says.
-    if let (0, Some(c)) = (i, unsafe { super::super::app_slice(v, 4) }.first_chunk::<4>()) {
-        crate::state::with_app(|app| app.scissor = *c);
-    }
+    // SAFETY: one box of four integers, as the call requires.
+    scissor_0(unsafe { box_0(i, 1, v) });
     real(i, v)
 }
 
