@@ -64,7 +64,7 @@ fn record(dir: &Path, name: &str, api: &str, program: &[&str], seconds: &str, fr
         args.extend([trace.to_str().unwrap(), "sh", "-c", PRELOAD_TOO, clock]);
         args.extend_from_slice(program);
         let _ = std::fs::remove_file(&trace);
-        let _ = run(Path::new("timeout"), &args, &[]);
+        record_once(&args);
         recorded = frames_in(&trace);
         if recorded >= frames {
             return trace;
@@ -74,6 +74,30 @@ fn record(dir: &Path, name: &str, api: &str, program: &[&str], seconds: &str, fr
         "apitrace recorded {recorded} of {frames} frames of {program:?} in {longer} s \
          (is apitrace installed? scripts/setup-debian.sh)"
     );
+}
+
+/// `timeout ARGS…` in a process group of its own, its output discarded, and whatever of the
+/// group outlives it killed: a traced program whose apitrace signal handler hung kept running
+/// after `timeout` had killed its child, holding the test's output pipe open (a CI run waited
+/// on winduprobot for 12 minutes).
+fn record_once(args: &[&str]) {
+    use std::os::unix::process::CommandExt;
+    use std::process::{Command, Stdio};
+    let child = Command::new("timeout")
+        .args(args)
+        .env("ALSOFT_DRIVERS", "null")
+        .process_group(0)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn();
+    if let Ok(mut c) = child {
+        let _ = c.wait();
+        let group = format!("-{}", c.id());
+        let _ = Command::new("kill")
+            .args(["-KILL", "--", &group])
+            .stderr(Stdio::null())
+            .status();
+    }
 }
 
 /// The frames of a trace (`apitrace info`), 0 when there is none.
