@@ -9,8 +9,9 @@ use crate::multiview::quilt::layout::intersect;
 use crate::multiview::shadows::scale::LayerScale;
 use crate::state::AppState;
 
-/// Clears every layer of a shadowed framebuffer of the app (the app's scissor box mapped
-/// into scaled layers).
+/// Clears every rendered layer of a shadowed framebuffer of the app (the app's scissor box
+/// mapped into scaled layers): the others are not drawn this frame, nor sampled before they
+/// are (a synthesised view samples its nearest rendered view's layer).
 fn clear_layers(gl: &Gl, app: &mut AppState, mv: &mut Multiview, f: &impl Fn()) -> bool {
     let Some(views) = crate::multiview::shadows::layers::current_views(gl, mv, app.draw_fbo) else {
         return false;
@@ -21,7 +22,10 @@ fn clear_layers(gl: &Gl, app: &mut AppState, mv: &mut Multiview, f: &impl Fn()) 
         // SAFETY: a scissor box; the app's is restored below.
         unsafe { gl.Scissor(r[0], r[1], r[2], r[3]) };
     }
-    for &view in views.iter() {
+    for (i, &view) in views.iter().enumerate() {
+        if !mv.plan.renders(i as u32) {
+            continue;
+        }
         // SAFETY: our view framebuffer; the app's binding is restored below.
         unsafe { gl.BindFramebuffer(DRAW_FRAMEBUFFER, view) };
         f();
@@ -235,7 +239,8 @@ fn blit_destination(gl: &Gl, mv: &mut Multiview, fbo: u32, layered_source: bool)
     }
 }
 
-/// Reads from a shadowed framebuffer of the app come from the centre view's layer: binds it
+/// Reads from a shadowed framebuffer of the app come from the centre view's layer (or the
+/// rendered one nearest to it, when a fast mode does not render the centre): binds it
 /// for reading (the caller rebinds with `rebind`). A scaled layer cannot answer in the app's
 /// pixels: it is scaled back up into the app's own objects (which no pass of ours reads while
 /// their layers live), and the read is the app's own, at the app's size: the centre view at
@@ -244,7 +249,7 @@ pub fn read_centre_layer(gl: &Gl, app: &AppState, mv: &mut Multiview) -> bool {
     let Some(views) = crate::multiview::shadows::layers::current_views(gl, mv, app.read_fbo) else {
         return false;
     };
-    let centre = mv.camera.rig.centre();
+    let centre = mv.plan.nearest(mv.camera.rig.centre());
     if let Some(s) = mv.shadows.get(&app.read_fbo).filter(|s| !s.scale.is_one()) {
         for a in &s.attached {
             if let Some(image) = mv.images.get(&a.app) {

@@ -284,12 +284,6 @@ impl LayeredImage {
         }
     }
 
-    /// Mipmaps of every layer, when the app regenerates its texture's.
-    pub fn generate_mipmaps(&self, gl: &Gl) {
-        // SAFETY: our own array texture.
-        unsafe { gl.GenerateTextureMipmap(self.array) };
-    }
-
     /// Our texture names: the array and the layer views.
     pub fn textures(&self) -> impl Iterator<Item = u32> + '_ {
         std::iter::once(self.array).chain(self.layer_views.iter().copied())
@@ -307,13 +301,16 @@ impl LayeredImage {
 /// The filter of the copies between an app object and its layers: linear for scaled colour
 /// that is not integer (which only NEAREST may blit), else NEAREST (depth and stencil must).
 fn copy_filter(gl: &Gl, array: u32, buffers: GLbitfield, scale: LayerScale) -> GLenum {
-    if scale.is_one() || buffers != COLOR_BUFFER_BIT {
-        return NEAREST;
+    if !scale.is_one() && filterable(gl, array, buffers) {
+        LINEAR
+    } else {
+        NEAREST
     }
-    match format::texture_components(gl, array).color_type {
-        INT | UNSIGNED_INT => NEAREST,
-        _ => LINEAR,
-    }
+}
+
+/// A blit may filter `array` linearly: colour that is not integer.
+pub(super) fn filterable(gl: &Gl, array: u32, buffers: GLbitfield) -> bool {
+    buffers == COLOR_BUFFER_BIT && !matches!(format::texture_components(gl, array).color_type, INT | UNSIGNED_INT)
 }
 
 #[derive(Clone, Copy)]

@@ -83,10 +83,10 @@ pub fn parameter_changed(gl: &Gl, mv: &Multiview, tex: u32, pname: GLenum, set: 
     }
 }
 
-/// The app regenerated its texture's mipmaps: every layer's too.
+/// The app regenerated its texture's mipmaps: every rendered layer's too (`mipmaps`).
 pub fn mipmaps_generated(gl: &Gl, mv: &Multiview, tex: u32) {
     if let Some(image) = mv.images.get(&AppImage::texture(tex)) {
-        image.generate_mipmaps(gl);
+        super::mipmaps::generate(gl, mv.info, image, |i| mv.plan.renders(i));
     }
 }
 

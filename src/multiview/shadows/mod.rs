@@ -14,6 +14,7 @@ pub mod downscale;
 pub mod layered;
 pub mod layers;
 pub mod lifetime;
+pub mod mipmaps;
 pub mod sampling;
 pub mod scale;
 pub mod shadow;
