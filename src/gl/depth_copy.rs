@@ -31,6 +31,9 @@ pub struct DepthCopy {
     /// Where in our texture the last copy lies, and its size.
     origin: (i32, i32),
     copied: (i32, i32),
+    /// `RG32F` beside the depth (colour attachment 0), when a disparity record is read back
+    /// with rows left out (`read_record`): the same rows of it.
+    record: u32,
     /// ES only: the RGBA8 target and program of the packing pass.
     pack: PackPass,
 }
@@ -122,6 +125,14 @@ pub fn storage(gl: &Gl, format: GLenum, (w, h): (i32, i32)) -> u32 {
     t
 }
 
+/// Rows a copy of `h` rows keeps when it takes every `step`-th: a NEAREST blit onto this
+/// many rows takes the source rows nearest `(i + 1/2)·h/rows`, the same for any two
+/// rectangles of one height, so a depth copy and a record read (`readback::read_rg_rows`)
+/// keep the same pixels.
+pub fn rows_of(h: i32, step: i32) -> i32 {
+    ((h + step.max(1) - 1) / step.max(1)).max(1).min(h.max(1))
+}
+
 /// A framebuffer of ours with `texture` at `point`, bound for drawing.
 fn framebuffer(gl: &Gl, fbo: &mut u32, point: GLenum, texture: u32) {
     // SAFETY: our own framebuffer; the caller's guard restores the bindings.
@@ -140,39 +151,56 @@ impl DepthCopy {
     /// draw call), except when our texture must change; `restore` is the state to leave:
     /// the draw and read framebuffer bindings and whether the scissor test is on.
     pub fn take(&mut self, gl: &Gl, info: GlInfo, source: (u32, SourceFormat), rect: [i32; 4], restore: Restore) {
+        self.take_rows(gl, info, source, rect, restore, 1);
+    }
+
+    /// `take`, of every `step`-th row only (the rows `rows_of` picks) where the source is
+    /// single-sampled and not ES (a multisampled source resolves only onto an equal
+    /// rectangle; ES reads through the packing pass): what is read back for statistics.
+    pub fn take_rows(
+        &mut self,
+        gl: &Gl,
+        info: GlInfo,
+        source: (u32, SourceFormat),
+        rect: [i32; 4],
+        restore: Restore,
+        step: i32,
+    ) {
         let [x, y, w, h] = rect.map(|v| v.clamp(0, 16384));
         let (fbo, SourceFormat { format, multisampled }) = source;
+        let rows = if multisampled || info.es { h } else { rows_of(h, step) };
         // ES resolves a multisampled source only onto the same coordinates: the copy then
         // keeps the rectangle where it was.
         self.origin = if info.es && multisampled { (x, y) } else { (0, 0) };
-        let size = ((self.origin.0 + w).max(1), (self.origin.1 + h).max(1));
+        let size = ((self.origin.0 + w).max(1), (self.origin.1 + rows).max(1));
         if (format, size) != (self.format, self.size) {
             self.resize(gl, info, format, size);
         }
         let (ox, oy) = self.origin;
         // SAFETY: a depth blit between framebuffers of one format (the source's), equal
-        // rectangles (so a multisampled source resolves), nothing clipping it; the caller's
-        // state put back after.
+        // rectangles when multisampled (so it resolves; else rows may be left out, NEAREST),
+        // nothing clipping it; the caller's state put back after.
         unsafe {
             gl.BindFramebuffer(READ_FRAMEBUFFER, fbo);
             gl.BindFramebuffer(DRAW_FRAMEBUFFER, self.fbo);
             if restore.scissor {
                 gl.Disable(SCISSOR_TEST);
             }
-            gl.BlitFramebuffer(x, y, x + w, y + h, ox, oy, ox + w, oy + h, DEPTH_BUFFER_BIT, NEAREST);
+            gl.BlitFramebuffer(x, y, x + w, y + h, ox, oy, ox + w, oy + rows, DEPTH_BUFFER_BIT, NEAREST);
             if restore.scissor {
                 gl.Enable(SCISSOR_TEST);
             }
             gl.BindFramebuffer(DRAW_FRAMEBUFFER, restore.draw_fbo);
             gl.BindFramebuffer(READ_FRAMEBUFFER, restore.read_fbo);
         }
-        self.copied = (w, h);
+        self.copied = (w, rows);
     }
 
     fn resize(&mut self, gl: &Gl, info: GlInfo, format: GLenum, size: (i32, i32)) {
         let _guard = StateGuard::new(gl, info).for_pass();
-        // SAFETY: our own texture, replaced.
-        unsafe { gl.DeleteTextures(1, &self.texture) };
+        // SAFETY: our own textures, replaced (the record's made again when wanted).
+        unsafe { gl.DeleteTextures(2, [self.texture, self.record].as_ptr()) };
+        self.record = 0;
         self.texture = storage(gl, format, size);
         let point = if matches!(format, DEPTH24_STENCIL8 | DEPTH32F_STENCIL8) {
             DEPTH_STENCIL_ATTACHMENT
@@ -181,8 +209,10 @@ impl DepthCopy {
         };
         framebuffer(gl, &mut self.fbo, point, self.texture);
         // SAFETY: a depth-only framebuffer of ours draws and reads no colour (bound for
-        // reading too: the read buffer is the read binding's); the caller rebinds.
+        // reading too: the read buffer is the read binding's; the record's old texture let
+        // go); the caller rebinds.
         unsafe {
+            gl.FramebufferTexture2D(DRAW_FRAMEBUFFER, COLOR_ATTACHMENT0, TEXTURE_2D, 0, 0);
             gl.DrawBuffers(1, &NONE);
             gl.BindFramebuffer(READ_FRAMEBUFFER, self.fbo);
             gl.ReadBuffer(NONE);
@@ -227,7 +257,7 @@ impl DepthCopy {
         // SAFETY: deleting only objects this copy created; zero names are ignored by GL.
         unsafe {
             gl.DeleteFramebuffers(2, [self.fbo, self.pack.fbo].as_ptr());
-            gl.DeleteTextures(2, [self.texture, self.pack.color].as_ptr());
+            gl.DeleteTextures(3, [self.texture, self.pack.color, self.record].as_ptr());
             if self.pack.vao != 0 {
                 gl.DeleteVertexArrays(1, &self.pack.vao);
             }
@@ -243,10 +273,42 @@ impl DepthCopy {
         (fbos, usize::from(self.pack.vao != 0))
     }
 
+    /// The disparity record (`RG32F` pairs, rows bottom-up) of `rect` of framebuffer `fbo`,
+    /// which holds the same pixels as the last copy: the rows it kept. State restored.
+    pub fn read_record(&mut self, gl: &Gl, info: GlInfo, fbo: u32, rect: [i32; 4]) -> Vec<f32> {
+        let (w, rows) = self.copied;
+        if rows == rect[3] || self.fbo == 0 || self.origin != (0, 0) {
+            return super::readback::read_rg(gl, info, fbo, rect);
+        }
+        let _guard = StateGuard::new(gl, info)
+            .framebuffers()
+            .for_pass()
+            .caps(&[SCISSOR_TEST]);
+        // SAFETY: our own texture and framebuffer; the bindings and the scissor test are
+        // restored by the guard. A NEAREST blit onto `rows` rows keeps the rows the depth
+        // copy kept (`rows_of`).
+        unsafe {
+            if self.record == 0 {
+                self.record = storage(gl, RG32F, self.size);
+                gl.BindFramebuffer(DRAW_FRAMEBUFFER, self.fbo);
+                gl.FramebufferTexture2D(DRAW_FRAMEBUFFER, COLOR_ATTACHMENT0, TEXTURE_2D, self.record, 0);
+                gl.DrawBuffers(1, &COLOR_ATTACHMENT0);
+                gl.BindFramebuffer(READ_FRAMEBUFFER, self.fbo);
+                gl.ReadBuffer(COLOR_ATTACHMENT0);
+            }
+            gl.Disable(SCISSOR_TEST);
+            gl.BindFramebuffer(READ_FRAMEBUFFER, fbo);
+            gl.BindFramebuffer(DRAW_FRAMEBUFFER, self.fbo);
+            let [x, y, rw, rh] = rect;
+            gl.BlitFramebuffer(x, y, x + rw, y + rh, 0, 0, w, rows, COLOR_BUFFER_BIT, NEAREST);
+        }
+        super::readback::read_rg(gl, info, self.fbo, [0, 0, w, rows])
+    }
+
     /// Textures and programs of ours, which the share group holds.
-    pub fn shared_objects(&self) -> ([u32; 2], Option<u32>) {
+    pub fn shared_objects(&self) -> ([u32; 3], Option<u32>) {
         let program = self.pack.program.as_ref().and_then(|p| p.as_ref().ok().copied());
-        ([self.texture, self.pack.color], program)
+        ([self.texture, self.pack.color, self.record], program)
     }
 }
 

@@ -88,3 +88,21 @@ fn a_dumped_quilt_counts_as_read_back() {
         plain.read_back
     );
 }
+
+/// Auto-convergence reads back a quarter of the scene's rows (depth, 4 bytes a pixel, and the
+/// disparity record, 8), not all of them: what a GPU stalls for at every swap. A fixed
+/// convergence reads nothing. The estimate from those rows is asserted elsewhere
+/// (`convergence`).
+#[test]
+fn auto_convergence_reads_a_quarter_of_the_rows() {
+    let auto = counts("synth", &[]);
+    let fixed = counts("synth", &["--convergence", "5"]);
+    assert_eq!(fixed.read_back, 0, "a fixed convergence reads nothing back");
+    let rows = 120_u64.div_ceil(4);
+    assert!(
+        auto.read_back > 0 && auto.read_back <= 160 * rows * (4 + 8),
+        "auto-convergence read {} bytes a frame: more than {} rows of 160 pixels",
+        auto.read_back,
+        rows
+    );
+}

@@ -31,11 +31,11 @@ pub fn substitute(mv: &Multiview, range: DepthRange, record: &[f32], depths: &mu
     n
 }
 
-/// The record of `rect` of view `view`'s scene target, `(p, recorded)` per pixel, when it
-/// has one and it matches `pixels`.
+/// The record of `rect` of view `view`'s scene target, `(p, recorded)` per pixel of the rows
+/// the depth copy kept, when it has one and it matches `pixels`.
 pub fn read(gl: &Gl, mv: &mut Multiview, view: u32, rect: [i32; 4], pixels: usize) -> Option<Vec<f32>> {
     let (fbo, _) = crate::multiview::quilt::record::source(gl, mv, view, rect)?;
-    let record = crate::gl::readback::read_rg(gl, mv.info, fbo, rect);
+    let record = mv.scene.copy.read_record(gl, mv.info, fbo, rect);
     (record.len() == pixels * 2).then_some(record)
 }
 
