@@ -34,16 +34,6 @@ layout(std430, binding = 2) buffer Targets_out { Out out_pixels[]; };
 // software rasteriser more than the resolve itself.
 layout(std430, binding = 3) buffer Holes { uint holes; };
 uniform int u_count_holes;
-// 1: colour is also stored straight into the quilt (`u_quilt`, rows top-down when
-// `u_flipped`), where no pass puts the targets into their tiles: nothing reads their depth
-// this frame (the warp at the swap), and a fragment pass writing what a compute pass made
-// costs a software rasteriser a copy of every tile.
-uniform int u_direct;
-layout(rgba8) writeonly uniform image2D u_quilt;
-uniform int u_quilt_h;
-uniform int u_flipped;
-// This target's tile in the quilt (framebuffer coordinates, bottom-left).
-ivec2 tile_origin;
 uniform ivec2 u_tile;
 uniform int u_targets;
 // (s, f) times half the tile width: pixels per unit of parallax, and of focus.
@@ -55,8 +45,7 @@ uniform int u_reversed;
 uniform float u_far_bias;
 
 struct Target {
-    // Source camera offsets u_target - u_source: second source, then the preferred one;
-    // then the target tile's origin in the quilt.
+    // Source camera offsets u_target - u_source: second source, then the preferred one.
     vec4 du;
     // Source layers (second, preferred) and how many sources (1 or 2).
     ivec4 src;
@@ -89,21 +78,10 @@ const uint SECOND = 0x40000000u;
 // the row first nor reads anything back.
 bool first_scan;
 
-void store(int x, vec4 c)
-{
-    if (u_direct == 1) {
-        int y = tile_origin.y + row;
-        // Quantised as the resolve's packed colour is, to the bit.
-        vec4 q = unpackUnorm4x8(packUnorm4x8(c));
-        imageStore(u_quilt, ivec2(tile_origin.x + x, u_flipped == 1 ? u_quilt_h - 1 - y : y), q);
-    }
-}
-
 void put(int x, vec4 c, float z, bool hole)
 {
     int i = out_base + x;
     if (first_scan) {
-        store(x, c);
         out_pixels[i] = Out(packUnorm4x8(c), uintBitsToFloat(floatBitsToUint(z) | (hole ? HOLE : 0u)));
         return;
     }
@@ -118,7 +96,6 @@ void put(int x, vec4 c, float z, bool hole)
         write = (e & SECOND) != 0u && !hole && nearer(z, was);
     }
     if (write) {
-        store(x, c);
         uint mark = hole ? HOLE : (second ? SECOND : 0u);
         out_pixels[i].depth = uintBitsToFloat(floatBitsToUint(z) | mark);
         out_pixels[i].color = packUnorm4x8(c);
@@ -304,7 +281,6 @@ void main()
     out_base = (layer * u_tile.y + row) * width;
     first_scan = true;
     Target t = targets[layer];
-    tile_origin = ivec2(t.du.zw);
     bool two = t.src.z == 2;
     if (u_second_fills_holes == 1) {
         second = false;

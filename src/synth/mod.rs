@@ -88,19 +88,6 @@ pub struct Job<'a> {
     pub second_fills_holes: bool,
     /// Splat every pixel and fill the holes (`synth:pixel`) instead of warping the grid.
     pub per_pixel: bool,
-    /// The row warp stores colour straight into the destination's texture, and no pass puts
-    /// the targets' depth into their tiles: nothing reads it this frame (`DirectColor`).
-    pub direct: Option<DirectColor>,
-}
-
-/// Where the row warp stores its colour itself: `texture`, an `RGBA8` texture (or a linear
-/// view of an sRGB one) holding `dest_fbo`'s colour, `height` rows, stored top-down when
-/// `flipped` (the framebuffer's y flipped, as the window's).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct DirectColor {
-    pub texture: u32,
-    pub height: i32,
-    pub flipped: bool,
 }
 
 /// The storage in `slot`, made again (the old one deleted) unless it `fits`.

@@ -1,8 +1,7 @@
 //! The row warp (`glsl-patches/synth_rows.comp`): the adaptive grid in one dimension. Views
 //! move sideways only, so each target row is warped from the same source row, by a compute
 //! pass with one invocation per row and target, into arrays of ours; a fragment pass then
-//! puts each target's colour and depth into its tile, or, when nothing reads the targets'
-//! depth this frame, the compute pass stores their colour into the tiles itself.
+//! puts each target's colour and depth into its tile.
 //!
 //! It draws no triangles: on a software rasterizer, where every small triangle costs a setup,
 //! a bin and a 4x4 block of shading, the quad grid's thousands of edge cells cost more than
@@ -153,14 +152,8 @@ pub fn run(pass: &Pass, programs: &RowPrograms, out: &RowTargets, job: &Job) -> 
         pack(pass, programs, out, j, job);
         profile.lap("parallax");
     }
-    let _image = crate::gl::guard::StateGuard::new(pass.gl, pass.info).images(0..1);
     warp_rows(pass, programs, out, job);
     profile.lap("rows");
-    if job.direct.is_some() {
-        // SAFETY: a barrier; the quilt's texture was written by image stores.
-        unsafe { pass.gl.MemoryBarrier(ALL_BARRIER_BITS) };
-        return Ok(());
-    }
     resolve(pass, programs, out, job)?;
     profile.lap("resolve");
     Ok(())
@@ -212,7 +205,7 @@ fn warp_rows(pass: &Pass, programs: &RowPrograms, out: &RowTargets, job: &Job) {
             let [preferred, second] = t.sources;
             let du = |j: usize| (t.u - job.sources[j].u) as f32;
             Params {
-                du: [du(second), du(preferred), t.rect[0] as f32, t.rect[1] as f32],
+                du: [du(second), du(preferred), 0.0, 0.0],
                 src: [
                     second as i32,
                     preferred as i32,
@@ -249,13 +242,6 @@ fn warp_rows(pass: &Pass, programs: &RowPrograms, out: &RowTargets, job: &Job) {
         gl.Uniform1f(loc(gl, p, "u_threshold"), job.threshold as f32);
         gl.Uniform1i(loc(gl, p, "u_reversed"), job.model.reversed as i32);
         gl.Uniform1f(loc(gl, p, "u_far_bias"), bias);
-        gl.Uniform1i(loc(gl, p, "u_direct"), job.direct.is_some() as i32);
-        if let Some(d) = job.direct {
-            gl.BindImageTexture(0, d.texture, 0, FALSE, 0, WRITE_ONLY, RGBA8);
-            gl.Uniform1i(loc(gl, p, "u_quilt"), 0);
-            gl.Uniform1i(loc(gl, p, "u_quilt_h"), d.height);
-            gl.Uniform1i(loc(gl, p, "u_flipped"), d.flipped as i32);
-        }
         gl.DispatchCompute((job.tile.1 as u32).div_ceil(ROWS_PER_GROUP), params.len() as u32, 1);
         gl.MemoryBarrier(SHADER_STORAGE_BARRIER_BIT);
     }

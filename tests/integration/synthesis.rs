@@ -56,34 +56,6 @@ fn gather_synth_views_match_exact_and_show_depth() {
     synth_against_exact("gather", 31.0);
 }
 
-/// At the swap nothing reads the synthesised tiles' depth, so the row warp stores their
-/// colour into the quilt itself and the pass that puts colour and depth into the tiles is
-/// left out. The quilt must be the one that pass gives, bit for bit, in a quilt stored
-/// top-down as the GLX window is (`--dump-disparity` reads the quilt's depth: with it the
-/// pass runs).
-#[test]
-fn colour_stored_by_the_row_warp_is_the_resolved_colour() {
-    require_display();
-    let dir = temp_dir("synth_direct_colour");
-    let trace = ["--log", "trace"];
-    let (direct, log) = quilt_in(&dir.join("direct"), "cubes", "5x3", "synth", &trace);
-    let resolving = ["--log", "trace", "--dump-disparity"];
-    let (resolved, resolved_log) = quilt_in(&dir.join("resolved"), "cubes", "5x3", "synth", &resolving);
-    let passes = |log: &str| {
-        log.lines()
-            .rev()
-            .find(|l| l.contains("synthesis passes"))
-            .map(str::to_owned)
-    };
-    let (d, r) = (passes(&log), passes(&resolved_log));
-    assert!(
-        d.as_ref().is_some_and(|l| l.contains("rows") && !l.contains("resolve")),
-        "{d:?}"
-    );
-    assert!(r.as_ref().is_some_and(|l| l.contains("resolve")), "{r:?}");
-    assert_identical(&resolved, &direct);
-}
-
 /// Every synthesised view of cubes at 5x1, warped by `warp`, at least `min_db` against exact,
 /// far better than the centre view copied, with depth-dependent parallax.
 fn synth_against_exact(warp: &str, min_db: f64) {

@@ -46,7 +46,7 @@ pub fn end_frame(gl: &Gl, mv: &mut Multiview, frame: u64) {
     mv.scene.ended_view = Some(mv.plan.nearest(mv.camera.rig.centre()));
     if mv.plan.synthesise && !mv.plan.warped {
         if mv.plan.scene_dirty {
-            warp_at(gl, mv, true);
+            warp(gl, mv);
         } else {
             copy_flat(gl, mv);
         }
@@ -80,11 +80,6 @@ pub fn end_frame(gl: &Gl, mv: &mut Multiview, frame: u64) {
 
 /// Synthesises every view the plan does not render, now, and marks the frame warped.
 pub fn warp(gl: &Gl, mv: &mut Multiview) {
-    warp_at(gl, mv, false);
-}
-
-/// `warp`; `at_swap`: the frame ends here, so the program draws nothing more into it.
-fn warp_at(gl: &Gl, mv: &mut Multiview, at_swap: bool) {
     mv.plan.mark_warped();
     if let Some(m) = mv.measure.as_mut().filter(|_| mv.plan.all)
         && let Some(t) = &mv.target
@@ -92,7 +87,7 @@ fn warp_at(gl: &Gl, mv: &mut Multiview, at_swap: bool) {
         m.keep_reference(gl, mv.info, t);
     }
     let reused = super::reuse::at_warp(gl, mv);
-    let result = try_warp(gl, mv, &reused.filled, at_swap);
+    let result = try_warp(gl, mv, &reused.filled);
     if result.is_ok() {
         super::reuse::move_kept(gl, mv, &reused.moved);
     }
@@ -199,7 +194,7 @@ pub fn capture_depth(gl: &Gl, mv: &mut Multiview) {
 }
 
 /// `kept`: views already filled (from the `--reuse` history).
-fn try_warp(gl: &Gl, mv: &mut Multiview, kept: &[u32], at_swap: bool) -> Result<(), String> {
+fn try_warp(gl: &Gl, mv: &mut Multiview, kept: &[u32]) -> Result<(), String> {
     let (Some(layout), Some(quilt)) = (mv.layout(), mv.quilt_fbo()) else {
         return Ok(());
     };
@@ -262,7 +257,6 @@ fn try_warp(gl: &Gl, mv: &mut Multiview, kept: &[u32], at_swap: bool) -> Result<
         count_holes: mv.measure.is_some() && mv.plan.all,
         second_fills_holes: !mv.settings.reuse,
         per_pixel: mv.plan.per_pixel,
-        direct: direct_color(mv, at_swap),
     };
     if !ANNOUNCED.swap(true, std::sync::atomic::Ordering::Relaxed) {
         let how = if job.per_pixel {
@@ -297,25 +291,6 @@ fn try_warp(gl: &Gl, mv: &mut Multiview, kept: &[u32], at_swap: bool) -> Result<
     let result = synth.warp(gl, info, &job);
     mv.synth = synth;
     result
-}
-
-/// Where the row warp may store its colour itself, skipping the pass that puts colour and
-/// depth into the tiles (a copy of every synthesised tile: on llvmpipe it cost 1-1.4 ms a
-/// view, 30-40 % of the warp): when nothing reads the synthesised tiles' depth this frame.
-/// At the swap the program draws nothing more; of the layer's own readers of the quilt's
-/// depth, the comfort pass, `--reuse`'s history and `--dump-disparity` are off, and a
-/// measured frame keeps its exact path. The quilt must be single-sampled `RGBA8` (or sRGB
-/// with a linear view) to be an image.
-fn direct_color(mv: &Multiview, at_swap: bool) -> Option<crate::synth::DirectColor> {
-    let t = mv.target.as_ref()?;
-    let readers = mv.settings.comfort.post_pass() || mv.settings.reuse || crate::config::settings().dump_disparity;
-    let rows = mv.settings.synth_warp == crate::config::SynthWarp::Rows && !mv.plan.per_pixel;
-    let image = t.samples == 0 && (t.color_format == RGBA8 || (t.color_format == SRGB8_ALPHA8 && t.sampled != t.color));
-    (at_swap && rows && image && !readers && !mv.plan.all).then_some(crate::synth::DirectColor {
-        texture: t.sampled,
-        height: t.layout.height() as i32,
-        flipped: t.layout.flipped,
-    })
 }
 
 /// Where each rendered view's disparity record is read (`replay::record` says when there is
