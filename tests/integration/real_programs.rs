@@ -290,14 +290,7 @@ fn terrain_rendered_view_mipmapped_alone(trace: &Path) {
         options.extend(dump_and_exit_at(&dump, "6"));
         let out = under_layer(&options, "glretrace", &[trace.to_str().unwrap()], &[]);
         assert_success(&out, &format!("terrain under --mode {mode}"));
-        let png = std::fs::read_dir(&dump)
-            .unwrap()
-            .filter_map(|e| e.ok().map(|e| e.path()))
-            .find(|p| {
-                p.file_name()
-                    .is_some_and(|n| n.to_string_lossy().starts_with("f000006_qs"))
-            })
-            .unwrap_or_else(|| panic!("no quilt dumped in {}", dump.display()));
+        let png = dumped_quilt(&dump, 6);
         (read_png(&png), png)
     };
     let ((exact, _), (synth, png)) = (quilt("exact"), quilt("synth"));
@@ -347,6 +340,16 @@ fn terrain_synth_matches_exact(trace: &Path) {
     assert!(mean >= 30.0, "{line}");
 }
 
+/// The quilt `--dump` wrote into `dump` for `frame`.
+fn dumped_quilt(dump: &Path, frame: u32) -> PathBuf {
+    let prefix = format!("f{frame:06}_qs");
+    std::fs::read_dir(dump)
+        .unwrap()
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .find(|p| p.file_name().is_some_and(|n| n.to_string_lossy().starts_with(&prefix)))
+        .unwrap_or_else(|| panic!("no quilt dumped in {}", dump.display()))
+}
+
 /// 2D windows composited through FBOs: no depth to show, so only the centre is checked.
 #[test]
 fn glmark2_desktop_fbo_quilt_centre() {
@@ -366,14 +369,7 @@ fn flat_frame_fills_every_view_in_synth(dir: &Path) {
     options.extend(dump_and_exit_at(&dump, "8"));
     let out = under_layer(&options, "glretrace", &[trace.to_str().unwrap()], &[]);
     assert_success(&out, "desktop under --mode synth");
-    let quilt_png = std::fs::read_dir(&dump)
-        .unwrap()
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .find(|p| {
-            p.file_name()
-                .is_some_and(|n| n.to_string_lossy().starts_with("f000008_qs"))
-        })
-        .unwrap_or_else(|| panic!("no quilt dumped in {}", dump.display()));
+    let quilt_png = dumped_quilt(&dump, 8);
     let quilt = read_png(&quilt_png);
     let centre = tile(&quilt, 5, 1, 2);
     for v in [0, 1, 3, 4] {
