@@ -78,6 +78,16 @@ pub fn end_frame(gl: &Gl, mv: &mut Multiview, frame: u64) {
     mv.plan.new_frame(measured && mv.measure.is_some());
 }
 
+/// This frame's warp, still to come, writes every pixel's colour and depth of every tile it
+/// synthesises, whatever was there (the row warp's resolve, depth test ALWAYS; a frame with
+/// nothing view-dependent copies colour and depth): a clear of those tiles before it is
+/// wasted. Not under the grid and per-pixel warps (depth-tested into the tile), `--reuse`
+/// (kept views fill tiles their own way), nor on frames that render every view.
+pub fn overwrites_tiles(mv: &Multiview) -> bool {
+    let rows = mv.settings.synth_warp == crate::config::SynthWarp::Rows && !mv.plan.per_pixel;
+    mv.plan.synthesise && !mv.plan.warped && !mv.plan.all && rows && !mv.settings.reuse && !mv.failed
+}
+
 /// Synthesises every view the plan does not render, now, and marks the frame warped.
 pub fn warp(gl: &Gl, mv: &mut Multiview) {
     mv.plan.mark_warped();

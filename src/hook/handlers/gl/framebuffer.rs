@@ -156,12 +156,12 @@ pub(crate) fn glScissorIndexedv(real: impl Fn(GLuint, *const GLint), i: GLuint, 
     real(i, v)
 }
 
-/// A clear (`depth`: of the depth buffer too), per tile or layer; a scene depth it would
-/// erase is copied first for auto-convergence.
-fn clear_tiles(depth: bool, f: impl Fn()) {
+/// A clear (`depth`: of the depth buffer too; `stencil`: of the stencil buffer too), per
+/// tile or layer; a scene depth it would erase is copied first for auto-convergence.
+fn clear_tiles((depth, stencil): (bool, bool), f: impl Fn()) {
     let done = with_active(|_, app, mv, gl| {
         crate::multiview::scene::convergence::before_erase(gl, app, mv, app.draw_fbo, depth);
-        transfers::clear(gl, app, mv, &f)
+        transfers::clear(gl, app, mv, stencil, &f)
     });
     if done.is_none() {
         f()
@@ -169,7 +169,8 @@ fn clear_tiles(depth: bool, f: impl Fn()) {
 }
 
 pub(crate) fn glClear(real: impl Fn(GLbitfield), mask: GLbitfield) {
-    clear_tiles(mask & crate::gl::DEPTH_BUFFER_BIT != 0, || real(mask))
+    let (depth, stencil) = (crate::gl::DEPTH_BUFFER_BIT, crate::gl::STENCIL_BUFFER_BIT);
+    clear_tiles((mask & depth != 0, mask & stencil != 0), || real(mask))
 }
 
 pub(crate) fn glClearBufferfv(
@@ -178,11 +179,11 @@ pub(crate) fn glClearBufferfv(
     i: GLint,
     v: *const GLfloat,
 ) {
-    clear_tiles(buffer == crate::gl::DEPTH, || real(buffer, i, v))
+    clear_tiles((buffer == crate::gl::DEPTH, false), || real(buffer, i, v))
 }
 
 pub(crate) fn glClearBufferiv(real: impl Fn(GLenum, GLint, *const GLint), buffer: GLenum, i: GLint, v: *const GLint) {
-    clear_tiles(false, || real(buffer, i, v))
+    clear_tiles((false, buffer == crate::gl::STENCIL), || real(buffer, i, v))
 }
 
 pub(crate) fn glClearBufferuiv(
@@ -191,7 +192,7 @@ pub(crate) fn glClearBufferuiv(
     i: GLint,
     v: *const GLuint,
 ) {
-    clear_tiles(false, || real(buffer, i, v))
+    clear_tiles((false, false), || real(buffer, i, v))
 }
 
 pub(crate) fn glClearBufferfi(
@@ -201,7 +202,8 @@ pub(crate) fn glClearBufferfi(
     d: GLfloat,
     s: GLint,
 ) {
-    clear_tiles(buffer == crate::gl::DEPTH_STENCIL, || real(buffer, i, d, s))
+    let both = buffer == crate::gl::DEPTH_STENCIL;
+    clear_tiles((both, both), || real(buffer, i, d, s))
 }
 
 /// Reads from framebuffer 0 see the centre view at the app's resolution.
