@@ -127,10 +127,11 @@ pub fn storage(gl: &Gl, format: GLenum, (w, h): (i32, i32)) -> u32 {
 
 /// Rows a copy of `h` rows keeps when it takes every `step`-th: a NEAREST blit onto this
 /// many rows takes the source rows nearest `(i + 1/2)·h/rows`, the same for any two
-/// rectangles of one height, so a depth copy and a record read (`readback::read_rg_rows`)
+/// rectangles of one height, so a depth copy and a record read (`DepthCopy::read_record`)
 /// keep the same pixels.
 pub fn rows_of(h: i32, step: i32) -> i32 {
-    ((h + step.max(1) - 1) / step.max(1)).max(1).min(h.max(1))
+    let step = step.max(1);
+    (h.max(1) + step - 1) / step
 }
 
 /// A framebuffer of ours with `texture` at `point`, bound for drawing.

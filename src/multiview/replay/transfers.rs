@@ -66,19 +66,17 @@ pub fn clear(gl: &Gl, app: &mut AppState, mv: &mut Multiview, stencil: bool, f: 
     if !scissored && !skip {
         return f();
     }
-    let whole = [0, 0, layout.width() as i32, layout.height() as i32];
+    // SAFETY: the scissor test, restored after the loop.
+    unsafe { gl.Enable(SCISSOR_TEST) };
     for i in (0..layout.views()).filter(|&i| !skip || mv.plan.draws(i)) {
-        let box_ = if scissored {
-            layout.map_rect(i, app.scissor)
+        let tile = layout.tile_rect(i);
+        let r = if scissored {
+            intersect(layout.map_rect(i, app.scissor), tile)
         } else {
-            whole
+            tile
         };
-        let r = intersect(box_, layout.tile_rect(i));
-        // SAFETY: a scissor box; the app's box and scissor test are restored after the loop.
-        unsafe {
-            gl.Enable(SCISSOR_TEST);
-            gl.Scissor(r[0], r[1], r[2], r[3]);
-        }
+        // SAFETY: a scissor box; the app's is restored after the loop.
+        unsafe { gl.Scissor(r[0], r[1], r[2], r[3]) };
         f();
     }
     let s = app.scissor;

@@ -58,8 +58,8 @@ pub struct LayeredImage {
     /// Each layer's size, and the factors from the app's object to it.
     pub size: (i32, i32),
     pub scale: LayerScale,
-    /// How scaled colour copies filter (integer formats cannot be filtered).
-    filter: GLenum,
+    /// A blit may filter it linearly: colour that is not integer (scaled copies, mipmaps).
+    pub filterable: bool,
     /// Per-layer `GL_TEXTURE_2D` views for sampling (single-sample textures only); shared
     /// with the draws that substitute them, without copying.
     pub layer_views: Arc<[u32]>,
@@ -223,7 +223,7 @@ impl LayeredImage {
             array,
             size: (w, h),
             scale,
-            filter: copy_filter(gl, array, buffers, scale),
+            filterable: filterable(gl, array, buffers),
             layer_views,
         };
         image.copy(gl, info, Direction::FromApp, 0..n);
@@ -277,10 +277,20 @@ impl LayeredImage {
                     to.0,
                     to.1,
                     self.buffers,
-                    self.filter,
+                    self.copy_filter(),
                 );
             }
             gl.DeleteFramebuffers(2, fbos.as_ptr());
+        }
+    }
+
+    /// The filter of the copies between the app's object and the layers: linear for scaled
+    /// colour that may be filtered, else NEAREST.
+    fn copy_filter(&self) -> GLenum {
+        if self.scale.is_one() || !self.filterable {
+            NEAREST
+        } else {
+            LINEAR
         }
     }
 
@@ -298,18 +308,9 @@ impl LayeredImage {
     }
 }
 
-/// The filter of the copies between an app object and its layers: linear for scaled colour
-/// that is not integer (which only NEAREST may blit), else NEAREST (depth and stencil must).
-fn copy_filter(gl: &Gl, array: u32, buffers: GLbitfield, scale: LayerScale) -> GLenum {
-    if !scale.is_one() && filterable(gl, array, buffers) {
-        LINEAR
-    } else {
-        NEAREST
-    }
-}
-
-/// A blit may filter `array` linearly: colour that is not integer.
-pub(super) fn filterable(gl: &Gl, array: u32, buffers: GLbitfield) -> bool {
+/// A blit may filter `array` linearly: colour that is not integer (only NEAREST may blit
+/// integers, depth and stencil). Asked once, when the layers are made.
+fn filterable(gl: &Gl, array: u32, buffers: GLbitfield) -> bool {
     buffers == COLOR_BUFFER_BIT && !matches!(format::texture_components(gl, array).color_type, INT | UNSIGNED_INT)
 }
 

@@ -9,7 +9,7 @@
 //! So each wanted layer is filtered level by level by blits, the way Mesa's own generation
 //! does it (`util_gen_mipmap`: a linear blit per level, sRGB decoded and encoded).
 
-use super::layered::{LayeredImage, filterable};
+use super::layered::LayeredImage;
 use crate::gl::guard::StateGuard;
 use crate::gl::{GlInfo, *};
 
@@ -17,7 +17,7 @@ use crate::gl::{GlInfo, *};
 /// when its format cannot be filtered by a blit (depth, stencil, integers).
 pub fn generate(gl: &Gl, info: GlInfo, image: &LayeredImage, wanted: impl Fn(u32) -> bool) {
     let n = image.layer_views.len() as u32;
-    if n == 0 || !filterable(gl, image.array, image.buffers) || (0..n).all(&wanted) {
+    if n == 0 || !image.filterable || (0..n).all(&wanted) {
         // SAFETY: our own array texture.
         unsafe { gl.GenerateTextureMipmap(image.array) };
         return;
