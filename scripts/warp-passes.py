@@ -35,8 +35,9 @@ def floor(tool, tile, quilt):
 
 def passes(binary, lib, scene, quilt, tile, frames, warp):
     """Median ms per frame of each synthesis pass (frames after the first two)."""
+    lib, *extra = lib.split()
     env = dict(os.environ, HOLOINJECT_LIB=lib)
-    args = [binary, "run", "--mode", "synth", "--synth-warp", warp, "--output", "quilt", "--quilt", quilt,
+    args = [binary, "run", "--mode", "synth", "--synth-warp", warp, *extra, "--output", "quilt", "--quilt", quilt,
             "--tile", tile, "--log", "trace", "--exit-after", str(frames), "--", scene, "--backend", "osmesa",
             "--size", tile, "--frames", str(frames)]
     err = subprocess.run(args, env=env, capture_output=True, text=True).stderr
@@ -52,7 +53,9 @@ def passes(binary, lib, scene, quilt, tile, frames, warp):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--lib", action="append", required=True, help="NAME=PATH of a libholoinject.so")
+    ap.add_argument("--lib", action="append", required=True,
+                    help="NAME=PATH of a libholoinject.so, optionally followed by options of its run "
+                         "(\"gpu=target/release/libholoinject.so --rows-on gpu\")")
     ap.add_argument("--bin", default=os.path.join(ROOT, "target/release/holoinject"))
     ap.add_argument("--floor-tool", default="/tmp/fill-floor",
                     help="fill-floor built from ../shared/tools/fill-floor.c")

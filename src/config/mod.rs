@@ -23,7 +23,7 @@ use view::ComfortChoice;
 
 pub use values::{
     Boundary, Convergence, DEFAULT_FRAME_BUDGET_MS, FboScale, FboViews, FrameSet, Mode, Output, Present, Preview,
-    SynthWarp, WeaveFilter,
+    RowsOn, SynthWarp, WeaveFilter,
 };
 pub use view::ViewSettings;
 

@@ -56,6 +56,8 @@ pub static OPTIONS: &[OptDef] = &[
         |v| super::parse::synth_threshold(v).map(|_| ())),
     opt("synth-warp", "rows|grid|gather", "synthesis warp: rows (default: a compute pass per row, no triangles), grid (Didyk's adaptive quad grid drawn as triangles) or gather (one pass per view, each pixel finds what lands on it: the GPU's shape)",
         |v| super::parse::synth_warp(v).map(|_| ())),
+    opt("rows-on", "auto|gpu|cpu", "where the row warp's scan runs: auto (default: the CPU under a software rasteriser such as llvmpipe, whose compute passes access storage one lane at a time; else the GPU), gpu (a compute pass) or cpu (this process's threads, the storage mapped)",
+        |v| super::parse::rows_on(v).map(|_| ())),
     opt("measure-error", "LIST|every:N", "on these frames render the exact quilt too and log each synthesised view's PSNR against it",
         |v| super::parse::frames(v).map(|_| ())),
     opt("output", "native|quilt|sbs|anaglyph|mono", "what is presented at swap (default: native with --device, else quilt)",

@@ -204,6 +204,25 @@ pub enum SynthWarp {
     Gather,
 }
 
+/// Where the row warp's scan runs (`--rows-on`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RowsOn {
+    /// The CPU under a software rasteriser (its GPU is the CPU), else the GPU.
+    Auto,
+    Gpu,
+    Cpu,
+}
+
+/// `--rows-on`.
+pub fn rows_on(v: &str) -> Result<RowsOn, String> {
+    match v.trim() {
+        "auto" => Ok(RowsOn::Auto),
+        "gpu" => Ok(RowsOn::Gpu),
+        "cpu" => Ok(RowsOn::Cpu),
+        _ => Err(format!("`{v}`: expected auto, gpu or cpu")),
+    }
+}
+
 /// `--synth-warp`.
 pub fn synth_warp(v: &str) -> Result<SynthWarp, String> {
     match v.trim() {

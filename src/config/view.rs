@@ -8,8 +8,8 @@ use super::comfort;
 use super::device;
 use super::parse;
 use super::values::{
-    Convergence, DEFAULT_FRAME_BUDGET_MS, FboScale, FboViews, FrameSet, Mode, Output, Present, Preview, SynthWarp,
-    WeaveFilter,
+    Convergence, DEFAULT_FRAME_BUDGET_MS, FboScale, FboViews, FrameSet, Mode, Output, Present, Preview, RowsOn,
+    SynthWarp, WeaveFilter,
 };
 
 /// The multiview rig as configured (what is not given is decided per context from the
@@ -46,6 +46,8 @@ pub struct ViewSettings {
     /// Disparity range (tile pixels, outermost view) a synthesis grid cell may hold.
     pub synth_threshold: f64,
     pub synth_warp: SynthWarp,
+    /// `--rows-on`: where the row warp's scan runs.
+    pub rows_on: RowsOn,
     /// Frames on which the exact quilt is rendered too and the synthesised views compared.
     pub measure_error: Option<FrameSet>,
     /// `--mode auto`: the frame time to meet (ms).
@@ -114,6 +116,7 @@ impl ViewSettings {
             "reuse-motion" => self.reuse_motion = parse::reuse_motion(value).unwrap_or(Some(0.02)),
             "synth-threshold" => self.synth_threshold = parse::synth_threshold(value).unwrap_or(1.0),
             "synth-warp" => self.synth_warp = parse::synth_warp(value).unwrap_or(SynthWarp::Rows),
+            "rows-on" => self.rows_on = parse::rows_on(value).unwrap_or(RowsOn::Auto),
             "measure-error" => self.measure_error = parse::frames(value).ok(),
             "edge-fade" => self.comfort.edge_fade = comfort::edge_fade(value).unwrap_or(None),
             "dof" => self.comfort.dof = comfort::dof(value).unwrap_or(None),
@@ -154,6 +157,7 @@ impl Default for ViewSettings {
             reuse_motion: Some(0.02),
             synth_threshold: 1.0,
             synth_warp: SynthWarp::Rows,
+            rows_on: RowsOn::Auto,
             measure_error: None,
             frame_budget_ms: DEFAULT_FRAME_BUDGET_MS,
             comfort: comfort::ComfortSettings::default(),

@@ -32,6 +32,7 @@ pub mod pbo;
 pub mod program;
 pub mod readback;
 pub mod stats_query;
+pub mod unpack;
 
 /// A context's GL table, shared between the threads that make the context current.
 pub struct SharedGl(pub Gl);

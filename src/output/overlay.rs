@@ -4,7 +4,6 @@
 //! and blitted into the top-left corner of what is presented; the app's unpack state and
 //! bindings are put back (`compose::present` holds the guard for the rest).
 
-use crate::gl::guard::get_i;
 use crate::gl::*;
 
 /// Glyphs are doubled in windows at least this wide.
@@ -102,7 +101,7 @@ impl Overlay {
 
     fn upload(&mut self, gl: &Gl, scale: usize) -> Result<(), String> {
         let (w, h, rgba) = rasterise(&self.lines, scale);
-        let unpack = UnpackState::neutral(gl);
+        let unpack = crate::gl::unpack::UnpackState::neutral(gl);
         // SAFETY: our texture on unit 0 (restored by the caller's guard) filled from a local
         // buffer of w*h RGBA8 pixels, with tight unpacking and no unpack buffer.
         unsafe {
@@ -134,48 +133,6 @@ impl Overlay {
         self.drawn = self.lines.clone();
         self.scale = scale;
         Ok(())
-    }
-}
-
-/// The app's pixel-unpack state, set to tight rows from client memory until `restore`.
-struct UnpackState {
-    buffer: u32,
-    store: Vec<(GLenum, i32)>,
-}
-
-const UNPACK: [GLenum; 6] = [
-    UNPACK_ALIGNMENT,
-    UNPACK_ROW_LENGTH,
-    UNPACK_SKIP_ROWS,
-    UNPACK_SKIP_PIXELS,
-    UNPACK_IMAGE_HEIGHT,
-    UNPACK_SKIP_IMAGES,
-];
-
-impl UnpackState {
-    fn neutral(gl: &Gl) -> UnpackState {
-        let s = UnpackState {
-            buffer: get_i(gl, PIXEL_UNPACK_BUFFER_BINDING) as u32,
-            store: UNPACK.iter().map(|&p| (p, get_i(gl, p))).collect(),
-        };
-        // SAFETY: unpack parameters and binding valid in a GL 3 context (multiview needs one).
-        unsafe {
-            gl.BindBuffer(PIXEL_UNPACK_BUFFER, 0);
-            for p in UNPACK {
-                gl.PixelStorei(p, if p == UNPACK_ALIGNMENT { 1 } else { 0 });
-            }
-        }
-        s
-    }
-
-    fn restore(self, gl: &Gl) {
-        // SAFETY: putting back values read from this context.
-        unsafe {
-            gl.BindBuffer(PIXEL_UNPACK_BUFFER, self.buffer);
-            for (p, v) in self.store {
-                gl.PixelStorei(p, v);
-            }
-        }
     }
 }
 

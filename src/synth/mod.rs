@@ -29,6 +29,8 @@ mod pull_push;
 pub mod reproject;
 mod resources;
 mod rows;
+mod rows_cpu;
+mod rows_host;
 
 pub use disparity::ParallaxModel;
 pub use pass::zero_to_one;
@@ -80,6 +82,9 @@ pub struct Job<'a> {
     pub rows: bool,
     /// Gather each target pixel (`gather`) instead of either.
     pub gather: bool,
+    /// Run the row warp's scan on the CPU (`rows_cpu`): `Some` as asked, `None` where the
+    /// context's renderer is a software rasteriser (`Synthesizer::software`).
+    pub rows_on_cpu: Option<bool>,
     /// Count the pixels filled over holes (`Synthesizer::hole_fraction`; the row warp only,
     /// on frames measured against exact).
     pub count_holes: bool,
@@ -88,6 +93,20 @@ pub struct Job<'a> {
     pub second_fills_holes: bool,
     /// Splat every pixel and fill the holes (`synth:pixel`) instead of warping the grid.
     pub per_pixel: bool,
+    /// Nothing reads the targets' depth this frame: a row warp run by the CPU uploads their
+    /// colour straight into the destination's texture, and no pass puts colour and depth
+    /// into their tiles (`DirectColor`).
+    pub direct: Option<DirectColor>,
+}
+
+/// Where a row warp run by the CPU uploads its colour: `texture`, an `RGBA8` texture (or a
+/// linear view of an sRGB one) holding `dest_fbo`'s colour, `height` rows, stored top-down
+/// when `flipped` (the framebuffer's y flipped, as the window's).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DirectColor {
+    pub texture: u32,
+    pub height: i32,
+    pub flipped: bool,
 }
 
 /// The storage in `slot`, made again (the old one deleted) unless it `fits`.
@@ -129,6 +148,29 @@ pub struct Synthesizer {
     captured: Option<(usize, GLenum)>,
     /// Bit j: source j's disparity record is in our array (with the depth it was taken with).
     recorded: u64,
+    /// The context renders on the CPU (`software`), asked once.
+    software: Option<bool>,
+    /// The CPU row warp's colour, kept between frames (`rows_host`): a new allocation of a
+    /// quilt's worth every frame would fault in every page again.
+    cpu_colour: Vec<u32>,
+}
+
+/// The context's renderer is a software rasteriser, whose "GPU" is this machine's CPU:
+/// llvmpipe, softpipe, OpenSWR, the classic swrast.
+fn software(gl: &Gl) -> bool {
+    // SAFETY: glGetString returns a static NUL-terminated string or null.
+    let renderer = unsafe {
+        let p = gl.GetString(RENDERER);
+        if p.is_null() {
+            return false;
+        }
+        std::ffi::CStr::from_ptr(p.cast())
+            .to_string_lossy()
+            .to_ascii_lowercase()
+    };
+    ["llvmpipe", "softpipe", "swr", "swiftshader", "software rasterizer"]
+        .iter()
+        .any(|s| renderer.contains(s))
 }
 
 impl Synthesizer {
@@ -223,7 +265,10 @@ impl Synthesizer {
             || rows::RowTargets::create(gl, job.tile, sources, count),
             |old| old.delete(gl),
         )?;
-        rows::run(&pass, &row_programs, out, job)
+        let on_cpu = job
+            .rows_on_cpu
+            .unwrap_or_else(|| *self.software.get_or_insert_with(|| software(gl)));
+        rows::run(&pass, &row_programs, out, job, (on_cpu, &mut self.cpu_colour))
     }
 
     /// Our framebuffer, vertex array and working storage for `sources` views of `tile`;

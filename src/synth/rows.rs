@@ -10,6 +10,7 @@
 use super::Job;
 use super::pass::{Pass, loc};
 use super::programs::FULLSCREEN_VERT;
+use super::rows_host;
 use crate::gl::GlInfo;
 use crate::gl::guard::get_i;
 use crate::gl::*;
@@ -20,7 +21,7 @@ const RESOLVE_FRAG: &str = include_str!("../../glsl-patches/synth_resolve.frag")
 /// Rows per work group (`local_size_x` of synth_rows.comp).
 const ROWS_PER_GROUP: u32 = 32;
 /// Window depth between a disocclusion fill and the surface it stretches.
-const FILL_BIAS: f32 = 1.0 / 16384.0;
+pub(super) const FILL_BIAS: f32 = 1.0 / 16384.0;
 
 #[derive(Clone, Copy, Debug)]
 pub struct RowPrograms {
@@ -49,14 +50,14 @@ impl RowPrograms {
 /// (8 bytes per pixel) and the targets' parameters.
 #[derive(Debug, PartialEq)]
 pub struct RowTargets {
-    tile: (i32, i32),
-    sources: usize,
-    count: usize,
-    packed: u32,
-    warped: u32,
+    pub(super) tile: (i32, i32),
+    pub(super) sources: usize,
+    pub(super) count: usize,
+    pub(super) packed: u32,
+    pub(super) warped: u32,
     params: u32,
     /// One counter: the pixels of the last warp's targets filled over holes.
-    holes: u32,
+    pub(super) holes: u32,
     /// A buffer texture (RG32UI) over `warped`, which the resolve pass reads.
     warped_view: u32,
 }
@@ -143,7 +144,15 @@ impl RowTargets {
 }
 
 /// Warps every target of `job` row by row; the sources are copied by `pass`.
-pub fn run(pass: &Pass, programs: &RowPrograms, out: &RowTargets, job: &Job) -> Result<(), String> {
+/// `on_cpu`: the scan by this process's threads (`rows_host`, `colour` its scratch), else by
+/// a compute pass.
+pub fn run(
+    pass: &Pass,
+    programs: &RowPrograms,
+    out: &RowTargets,
+    job: &Job,
+    (on_cpu, colour): (bool, &mut Vec<u32>),
+) -> Result<(), String> {
     let mut profile = super::profile::Profile::new(pass.gl);
     for (j, source) in job.sources.iter().enumerate() {
         pass.copy_source(j, source, job)?;
@@ -152,8 +161,24 @@ pub fn run(pass: &Pass, programs: &RowPrograms, out: &RowTargets, job: &Job) -> 
         pack(pass, programs, out, j, job);
         profile.lap("parallax");
     }
-    warp_rows(pass, programs, out, job);
-    profile.lap("rows");
+    if on_cpu {
+        match rows_host::warp(pass, out, job, colour, &mut profile) {
+            Ok(rows_host::Done::InTiles) => return Ok(()),
+            Ok(rows_host::Done::Warped) => {}
+            Err(e) => {
+                crate::log::once_for(
+                    ("rows-on-cpu", 0),
+                    crate::log::Level::Warn,
+                    format_args!("synthesis: the row warp runs on the GPU this frame: {e}"),
+                );
+                warp_rows(pass, programs, out, job);
+                profile.lap("rows");
+            }
+        }
+    } else {
+        warp_rows(pass, programs, out, job);
+        profile.lap("rows");
+    }
     resolve(pass, programs, out, job)?;
     profile.lap("resolve");
     Ok(())

@@ -46,7 +46,7 @@ pub fn end_frame(gl: &Gl, mv: &mut Multiview, frame: u64) {
     mv.scene.ended_view = Some(mv.plan.nearest(mv.camera.rig.centre()));
     if mv.plan.synthesise && !mv.plan.warped {
         if mv.plan.scene_dirty {
-            warp(gl, mv);
+            warp_at(gl, mv, true);
         } else {
             copy_flat(gl, mv);
         }
@@ -90,6 +90,11 @@ pub fn overwrites_tiles(mv: &Multiview) -> bool {
 
 /// Synthesises every view the plan does not render, now, and marks the frame warped.
 pub fn warp(gl: &Gl, mv: &mut Multiview) {
+    warp_at(gl, mv, false);
+}
+
+/// `warp`; `at_swap`: the frame ends here, so the program draws nothing more into it.
+fn warp_at(gl: &Gl, mv: &mut Multiview, at_swap: bool) {
     mv.plan.mark_warped();
     if let Some(m) = mv.measure.as_mut().filter(|_| mv.plan.all)
         && let Some(t) = &mv.target
@@ -97,7 +102,7 @@ pub fn warp(gl: &Gl, mv: &mut Multiview) {
         m.keep_reference(gl, mv.info, t);
     }
     let reused = super::reuse::at_warp(gl, mv);
-    let result = try_warp(gl, mv, &reused.filled);
+    let result = try_warp(gl, mv, &reused.filled, at_swap);
     if result.is_ok() {
         super::reuse::move_kept(gl, mv, &reused.moved);
     }
@@ -204,7 +209,7 @@ pub fn capture_depth(gl: &Gl, mv: &mut Multiview) {
 }
 
 /// `kept`: views already filled (from the `--reuse` history).
-fn try_warp(gl: &Gl, mv: &mut Multiview, kept: &[u32]) -> Result<(), String> {
+fn try_warp(gl: &Gl, mv: &mut Multiview, kept: &[u32], at_swap: bool) -> Result<(), String> {
     let (Some(layout), Some(quilt)) = (mv.layout(), mv.quilt_fbo()) else {
         return Ok(());
     };
@@ -264,9 +269,15 @@ fn try_warp(gl: &Gl, mv: &mut Multiview, kept: &[u32]) -> Result<(), String> {
         threshold: mv.settings.synth_threshold,
         rows: mv.settings.synth_warp == crate::config::SynthWarp::Rows,
         gather: mv.settings.synth_warp == crate::config::SynthWarp::Gather,
+        rows_on_cpu: match mv.settings.rows_on {
+            crate::config::RowsOn::Auto => None,
+            crate::config::RowsOn::Gpu => Some(false),
+            crate::config::RowsOn::Cpu => Some(true),
+        },
         count_holes: mv.measure.is_some() && mv.plan.all,
         second_fills_holes: !mv.settings.reuse,
         per_pixel: mv.plan.per_pixel,
+        direct: direct_color(mv, at_swap),
     };
     if !ANNOUNCED.swap(true, std::sync::atomic::Ordering::Relaxed) {
         let how = if job.per_pixel {
@@ -301,6 +312,24 @@ fn try_warp(gl: &Gl, mv: &mut Multiview, kept: &[u32]) -> Result<(), String> {
     let result = synth.warp(gl, info, &job);
     mv.synth = synth;
     result
+}
+
+/// Where the row warp, when the CPU runs it, may upload the synthesised tiles' colour itself,
+/// skipping the pass that puts colour and depth into them (a full-tile pass per view): when
+/// nothing reads their depth this frame. At the swap the program draws nothing more; of the
+/// layer's own readers of the quilt's depth, the comfort pass, `--reuse`'s history and
+/// `--dump-disparity` are off, and a measured frame keeps its exact path. The quilt must be
+/// single-sampled `RGBA8` (or sRGB with a linear view) for its bytes to be the upload's.
+fn direct_color(mv: &Multiview, at_swap: bool) -> Option<crate::synth::DirectColor> {
+    let t = mv.target.as_ref()?;
+    let readers = mv.settings.comfort.post_pass() || mv.settings.reuse || crate::config::settings().dump_disparity;
+    let rows = mv.settings.synth_warp == crate::config::SynthWarp::Rows && !mv.plan.per_pixel;
+    let rgba8 = t.samples == 0 && (t.color_format == RGBA8 || (t.color_format == SRGB8_ALPHA8 && t.sampled != t.color));
+    (at_swap && rows && rgba8 && !readers && !mv.plan.all).then_some(crate::synth::DirectColor {
+        texture: t.sampled,
+        height: t.layout.height() as i32,
+        flipped: t.layout.flipped,
+    })
 }
 
 /// Where each rendered view's disparity record is read (`replay::record` says when there is

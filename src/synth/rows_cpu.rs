@@ -1,0 +1,404 @@
+//! The row warp run by the CPU (`--rows-on cpu`, and `auto` under a software rasteriser):
+//! the same scan as `glsl-patches/synth_rows.comp`, statement for statement, over the same
+//! storage, mapped. Under llvmpipe the CPU is the GPU, and its compute shaders run every
+//! storage load and store one lane at a time in a bounds-checked loop: the scan written for
+//! the CPU does the same work for a fraction of the instructions (issue 23: the row pass was
+//! 2.5-3.5 times the floor pass on its own).
+//!
+//! Kept in step with the shader: a change to one is a change to both (the test
+//! `synthesis::row_warp_on_the_cpu_matches_the_compute_pass` compares their quilts).
+
+/// A source pixel as `synth_pack.comp` stores it.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default)]
+pub struct SrcPixel {
+    pub color: u32,
+    pub depth: f32,
+    pub parallax: f32,
+}
+
+/// A warped pixel as the resolve pass reads it: colour, and the depth's bits with the marks.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct OutPixel {
+    pub color: u32,
+    pub depth: u32,
+}
+
+const HOLE: u32 = 0x8000_0000;
+const SECOND: u32 = 0x4000_0000;
+
+/// The uniforms of synth_rows.comp.
+#[derive(Clone, Copy, Debug)]
+pub struct Settings {
+    /// Pixels per unit of parallax, and of focus.
+    pub px: (f32, f32),
+    pub threshold: f32,
+    pub reversed: bool,
+    pub far_bias: f32,
+    pub count_holes: bool,
+    pub second_fills_holes: bool,
+}
+
+/// One target: camera offsets from (second, preferred) source, their layers, and whether
+/// there are two.
+#[derive(Clone, Copy, Debug)]
+pub struct TargetParams {
+    pub du: [f32; 2],
+    pub src: [usize; 2],
+    pub two: bool,
+}
+
+/// Where the warped rows go.
+pub enum Output<'a> {
+    /// Colour and marked depth per target pixel, targets one after another, rows bottom-up:
+    /// what the resolve pass puts into the tiles.
+    Warped(&'a mut [OutPixel]),
+    /// Colour alone (RGBA8), targets one after another, each target's rows top-down when
+    /// `flipped`: uploaded into the tiles as it is, where nothing reads their depth.
+    Colour { pixels: &'a mut [u32], flipped: bool },
+}
+
+impl Output<'_> {
+    fn len(&self) -> usize {
+        match self {
+            Output::Warped(o) => o.len(),
+            Output::Colour { pixels, .. } => pixels.len(),
+        }
+    }
+}
+
+/// Every target's rows from `sources` (layer after layer of `tile` pixels, rows bottom-up)
+/// into `out`, on up to `threads` threads (each a share of the targets); the pixels left
+/// filled over holes when counted. `None` when the storage does not hold what the targets
+/// name.
+pub fn warp(
+    sources: &[SrcPixel],
+    out: Output,
+    tile: (usize, usize),
+    targets: &[TargetParams],
+    s: &Settings,
+    threads: usize,
+) -> Option<u64> {
+    let (width, height) = tile;
+    let layer = width * height;
+    let layers = sources.len() / layer.max(1);
+    if width == 0
+        || height == 0
+        || out.len() < layer * targets.len()
+        || targets.iter().any(|t| t.src.iter().any(|&j| j >= layers))
+    {
+        return None;
+    }
+    if targets.is_empty() {
+        return Some(0);
+    }
+    let per = targets.len().div_ceil(threads.clamp(1, 64));
+    // One target at a time into `dst` (`per` targets' worth), each row made in `row` first:
+    // the scan reads back what it wrote, and a row's worth stays in the cache.
+    let run = |first: usize, mut dst: Dst| {
+        let mut row_out = vec![OutPixel::default(); width];
+        let mut holes = 0;
+        let n = dst.len() / layer;
+        for (k, t) in targets[first..first + n].iter().enumerate() {
+            for y in 0..height {
+                let mut scanner = Row {
+                    out: &mut row_out,
+                    width,
+                    s,
+                    first_scan: true,
+                    second: false,
+                };
+                holes += scanner.run(t, |j| &sources[(j * height + y) * width..][..width]);
+                dst.put_row(k * layer, y, height, width, &row_out);
+            }
+        }
+        holes
+    };
+    let chunks: Vec<Dst> = match out {
+        Output::Warped(o) => o[..layer * targets.len()]
+            .chunks_mut(per * layer)
+            .map(Dst::Warped)
+            .collect(),
+        Output::Colour { pixels, flipped } => pixels[..layer * targets.len()]
+            .chunks_mut(per * layer)
+            .map(|c| Dst::Colour(c, flipped))
+            .collect(),
+    };
+    let mut chunks = chunks.into_iter().enumerate();
+    let Some((_, mine)) = chunks.next() else { return Some(0) };
+    let holes = std::thread::scope(|scope| {
+        let others: Vec<_> = chunks
+            .map(|(i, chunk)| scope.spawn(move || run(i * per, chunk)))
+            .collect();
+        let own = run(0, mine);
+        others.into_iter().map(|h| h.join().unwrap_or(0)).sum::<u64>() + own
+    });
+    Some(holes)
+}
+
+/// One thread's share of `Output`.
+enum Dst<'a> {
+    Warped(&'a mut [OutPixel]),
+    Colour(&'a mut [u32], bool),
+}
+
+impl Dst<'_> {
+    fn len(&self) -> usize {
+        match self {
+            Dst::Warped(o) => o.len(),
+            Dst::Colour(c, _) => c.len(),
+        }
+    }
+
+    /// Row `y` (bottom-up) of the target starting at `base`.
+    fn put_row(&mut self, base: usize, y: usize, height: usize, width: usize, row: &[OutPixel]) {
+        match self {
+            Dst::Warped(o) => o[base + y * width..][..width].copy_from_slice(row),
+            Dst::Colour(c, flipped) => {
+                let y = if *flipped { height - 1 - y } else { y };
+                for (d, p) in c[base + y * width..][..width].iter_mut().zip(row) {
+                    *d = p.color;
+                }
+            }
+        }
+    }
+}
+
+/// One source pixel where it lands (see `land` in the shader).
+#[derive(Clone, Copy)]
+struct Landed {
+    x: f32,
+    d: f32,
+    color: u32,
+    z: f32,
+    ok: bool,
+}
+
+/// Clamped to [0, 1], NaN to 0 (as llvmpipe's clamp returns the other operand).
+fn unit(v: f32) -> f32 {
+    if v > 0.0 { v.min(1.0) } else { 0.0 }
+}
+
+/// `mix` of two RGBA8 colours, two channels per multiply, rounded to nearest with the weight
+/// in 1/256 steps (the shader's float mix and rounding: within one step of it).
+fn mix_color(a: u32, b: u32, w: f32) -> u32 {
+    if w <= 0.0 {
+        return a;
+    }
+    if w >= 1.0 {
+        return b;
+    }
+    let wb = (w * 256.0 + 0.5) as u32;
+    let wa = 256 - wb;
+    const M: u32 = 0x00ff_00ff;
+    let rb = ((a & M) * wa + (b & M) * wb + 0x0080_0080) >> 8 & M;
+    let ga = ((a >> 8 & M) * wa + (b >> 8 & M) * wb + 0x0080_0080) & !M;
+    rb | ga
+}
+
+fn mix(a: f32, b: f32, w: f32) -> f32 {
+    if w <= 0.0 {
+        a
+    } else if w >= 1.0 {
+        b
+    } else {
+        a * (1.0 - w) + b * w
+    }
+}
+
+/// One row of one target being made.
+struct Row<'a> {
+    out: &'a mut [OutPixel],
+    width: usize,
+    s: &'a Settings,
+    first_scan: bool,
+    second: bool,
+}
+
+impl Row<'_> {
+    fn nearer(&self, a: f32, b: f32) -> bool {
+        if self.s.reversed { a >= b } else { a <= b }
+    }
+
+    fn run<'s>(&mut self, t: &TargetParams, source: impl Fn(usize) -> &'s [SrcPixel]) -> u64 {
+        let [second, preferred] = t.src;
+        if self.s.second_fills_holes {
+            self.scan(source(preferred), t.du[1]);
+            self.first_scan = false;
+            self.second = t.two;
+            if t.two {
+                self.scan(source(second), t.du[0]);
+            }
+            self.row_done(t.two)
+        } else {
+            if t.two {
+                self.scan(source(second), t.du[0]);
+                self.first_scan = false;
+            }
+            self.scan(source(preferred), t.du[1]);
+            self.row_done(false)
+        }
+    }
+
+    fn put(&mut self, x: usize, color: u32, z: f32, hole: bool) {
+        let o = &mut self.out[x];
+        if self.first_scan {
+            *o = OutPixel {
+                color,
+                depth: z.to_bits() | if hole { HOLE } else { 0 },
+            };
+            return;
+        }
+        let e = o.depth;
+        let was = f32::from_bits(e & !(HOLE | SECOND));
+        let nearer = if self.s.reversed { z >= was } else { z <= was };
+        let write = if !self.second {
+            nearer
+        } else if e & HOLE != 0 {
+            !hole || nearer
+        } else {
+            e & SECOND != 0 && !hole && nearer
+        };
+        if write {
+            let mark = if hole {
+                HOLE
+            } else if self.second {
+                SECOND
+            } else {
+                0
+            };
+            *o = OutPixel {
+                color,
+                depth: z.to_bits() | mark,
+            };
+        }
+    }
+
+    fn row_done(&mut self, marked: bool) -> u64 {
+        if !marked && !self.s.count_holes {
+            return 0;
+        }
+        let mut n = 0;
+        for o in self.out.iter_mut() {
+            o.depth &= !SECOND;
+            n += u64::from(o.depth >> 31);
+        }
+        if self.s.count_holes { n } else { 0 }
+    }
+
+    fn land(&self, row: &[SrcPixel], i: usize, k: f32, f: f32, dir: f32) -> Landed {
+        let p = row[if dir > 0.0 { i } else { self.width - 1 - i }];
+        let d = dir * (k * p.parallax + f);
+        let x = i as f32 + 0.5 + d;
+        let ok = x.abs() < 1.0e6;
+        Landed {
+            x: if ok { x } else { -1.0e30 },
+            d,
+            color: p.color,
+            z: p.depth,
+            ok,
+        }
+    }
+
+    fn emit(&mut self, x: usize, a: &Landed, b: &Landed, edge_a: bool, edge_b: bool, dir: f32) {
+        let c = x as f32 + 0.5;
+        let thr = self.s.threshold;
+        let border = edge_a || !a.ok || edge_b || !b.ok;
+        let mut hole = false;
+        let w = if border {
+            let use_a = edge_b || !b.ok;
+            let (landed, ok) = if use_a { (a.x, a.ok) } else { (b.x, b.ok) };
+            hole = !ok || (c - landed).abs() >= 0.5;
+            if use_a { 0.0 } else { 1.0 }
+        } else if c >= b.x {
+            1.0
+        } else if (b.d - a.d).abs() <= thr {
+            unit((c - a.x) / (b.x - a.x))
+        } else if c < a.x + 0.5 {
+            0.0
+        } else if c >= b.x - 0.5 {
+            1.0
+        } else {
+            hole = true;
+            if self.nearer(b.z, a.z) { 0.0 } else { 1.0 }
+        };
+        let color = mix_color(a.color, b.color, w);
+        let mut z = mix(a.z, b.z, w);
+        if hole && !border {
+            z = (z + self.s.far_bias).clamp(0.0, 1.0);
+        }
+        let at = if dir > 0.0 { x } else { self.width - 1 - x };
+        self.put(at, color, z, hole);
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn over_holes(&mut self, a: &Landed, b: &Landed, cont: bool, c: f32, (h0, h1): (f32, f32), dir: f32) {
+        let lo = if cont { a.x.min(b.x) } else { b.x - 0.5 };
+        let hi = if cont { a.x.max(b.x) } else { b.x + 0.5 };
+        let x0 = ((lo.max(h0) - 0.5).ceil() as i64).max(0);
+        let x1 = ((hi.min((h1 + 0.5).min(c)) - 0.5).ceil() as i64).min(self.width as i64);
+        let was = self.first_scan;
+        self.first_scan = false;
+        for x in x0..x1 {
+            let w = if cont {
+                unit((x as f32 + 0.5 - a.x) / (b.x - a.x))
+            } else {
+                1.0
+            };
+            let x = x as usize;
+            let at = if dir > 0.0 { x } else { self.width - 1 - x };
+            self.put(at, mix_color(a.color, b.color, w), mix(a.z, b.z, w), false);
+        }
+        self.first_scan = was;
+    }
+
+    /// The target row from one source row: the merge of the source walk and the target walk
+    /// in occlusion order, as `scan` in the shader (whose comments say why it is right).
+    fn scan(&mut self, row: &[SrcPixel], du: f32) {
+        let (width, thr) = (self.width, self.s.threshold);
+        let (k, f) = (du * self.s.px.0, du * self.s.px.1);
+        let dir = if k > 0.0 { -1.0 } else { 1.0 };
+        let mut a = self.land(row, 0, k, f, dir);
+        let mut b = a;
+        let mut n = self.land(row, 1.min(width - 1), k, f, dir);
+        let (mut t, mut x) = (0usize, 0usize);
+        let (mut h0, mut h1) = (1.0e30f32, -1.0e30f32);
+        let mut front = -1.0e30f32;
+        let edge = |t: usize, b: &Landed, n: &Landed| t + 1 >= width || !n.ok || (n.d - b.d).abs() > thr;
+        for _ in 0..2 * width + 2 {
+            if x >= width {
+                break;
+            }
+            let c = x as f32 + 0.5;
+            let mut reach = b.x + if edge(t, &b, &n) { 0.5 } else { 0.0 };
+            if t < width && reach <= c {
+                if t > 0 && a.ok && b.ok && b.x < front - 0.5 && b.x + 0.5 > h0 && a.x.min(b.x) < h1 + 0.5 {
+                    self.over_holes(&a, &b, (b.d - a.d).abs() <= thr, c, (h0, h1), dir);
+                }
+                front = front.max(b.x);
+                a = b;
+                b = n;
+                t += 1;
+                if t + 1 < width {
+                    n = self.land(row, t + 1, k, f, dir);
+                }
+                reach = b.x + if edge(t, &b, &n) { 0.5 } else { 0.0 };
+            }
+            if t >= width || reach > c {
+                let gap =
+                    t > 0 && t < width && a.ok && b.ok && (b.d - a.d).abs() > thr && c >= a.x + 0.5 && c < b.x - 0.5;
+                if gap {
+                    h0 = h0.min(c);
+                    h1 = c;
+                }
+                self.emit(x, &a, &b, t == 0, t >= width, dir);
+                x += 1;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+#[path = "rows_cpu_tests.rs"]
+mod tests;
