@@ -29,7 +29,7 @@ mod pull_push;
 pub mod reproject;
 mod resources;
 mod rows;
-mod rows_cpu;
+pub mod rows_cpu;
 mod rows_host;
 
 pub use disparity::ParallaxModel;

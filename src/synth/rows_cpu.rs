@@ -55,8 +55,14 @@ pub enum Output<'a> {
     /// what the resolve pass puts into the tiles.
     Warped(&'a mut [OutPixel]),
     /// Colour alone (RGBA8), targets one after another, each target's rows top-down when
-    /// `flipped`: uploaded into the tiles as it is, where nothing reads their depth.
-    Colour { pixels: &'a mut [u32], flipped: bool },
+    /// `flipped`: uploaded into the tiles as it is, where nothing reads their depth. `ready`
+    /// is called on the calling thread with each target (its index and pixels) as soon as it
+    /// is made, in any order: its upload overlaps the other threads' scans.
+    Colour {
+        pixels: &'a mut [u32],
+        flipped: bool,
+        ready: &'a mut dyn FnMut(usize, &[u32]),
+    },
 }
 
 impl Output<'_> {
@@ -69,9 +75,9 @@ impl Output<'_> {
 }
 
 /// Every target's rows from `sources` (layer after layer of `tile` pixels, rows bottom-up)
-/// into `out`, on up to `threads` threads (each a share of the targets); the pixels left
-/// filled over holes when counted. `None` when the storage does not hold what the targets
-/// name.
+/// into `out`, on up to `threads` threads taking the next target as they finish one; the
+/// pixels left filled over holes when counted. `None` when the storage does not hold what
+/// the targets name, or a thread failed.
 pub fn warp(
     sources: &[SrcPixel],
     out: Output,
@@ -90,74 +96,94 @@ pub fn warp(
     {
         return None;
     }
-    if targets.is_empty() {
-        return Some(0);
-    }
-    let per = targets.len().div_ceil(threads.clamp(1, 64));
-    // One target at a time into `dst` (`per` targets' worth), each row made in `row` first:
-    // the scan reads back what it wrote, and a row's worth stays in the cache.
-    let run = |first: usize, mut dst: Dst| {
-        let mut row_out = vec![OutPixel::default(); width];
+    let (jobs, mut ready): (Vec<Dst>, Option<&mut dyn FnMut(usize, &[u32])>) = match out {
+        Output::Warped(o) => (
+            o[..layer * targets.len()].chunks_mut(layer).map(Dst::Warped).collect(),
+            None,
+        ),
+        Output::Colour { pixels, flipped, ready } => (
+            pixels[..layer * targets.len()]
+                .chunks_mut(layer)
+                .map(|c| Dst::Colour(c, flipped))
+                .collect(),
+            Some(ready),
+        ),
+    };
+    let queue = std::sync::Mutex::new(jobs.into_iter().enumerate());
+    let next = || queue.lock().ok().and_then(|mut q| q.next());
+    // Each row made in `row_out` first: the scan reads back what it wrote, and a row's worth
+    // stays in the cache.
+    let make = |t: &TargetParams, dst: &mut Dst, row_out: &mut [OutPixel], lands: &mut Lands| {
         let mut holes = 0;
-        let n = dst.len() / layer;
-        for (k, t) in targets[first..first + n].iter().enumerate() {
-            for y in 0..height {
-                let mut scanner = Row {
-                    out: &mut row_out,
-                    width,
-                    s,
-                    first_scan: true,
-                    second: false,
-                };
-                holes += scanner.run(t, |j| &sources[(j * height + y) * width..][..width]);
-                dst.put_row(k * layer, y, height, width, &row_out);
-            }
+        for y in 0..height {
+            let mut scanner = Row {
+                out: row_out,
+                width,
+                s,
+                first_scan: true,
+                second: false,
+            };
+            holes += scanner.run(t, lands, |j| &sources[(j * height + y) * width..][..width]);
+            dst.put_row(y, height, width, row_out);
         }
         holes
     };
-    let chunks: Vec<Dst> = match out {
-        Output::Warped(o) => o[..layer * targets.len()]
-            .chunks_mut(per * layer)
-            .map(Dst::Warped)
-            .collect(),
-        Output::Colour { pixels, flipped } => pixels[..layer * targets.len()]
-            .chunks_mut(per * layer)
-            .map(|c| Dst::Colour(c, flipped))
-            .collect(),
-    };
-    let mut chunks = chunks.into_iter().enumerate();
-    let Some((_, mine)) = chunks.next() else { return Some(0) };
-    let holes = std::thread::scope(|scope| {
-        let others: Vec<_> = chunks
-            .map(|(i, chunk)| scope.spawn(move || run(i * per, chunk)))
+    let scratch = || (vec![OutPixel::default(); width], Lands::default());
+    let (tx, rx) = std::sync::mpsc::channel::<(usize, &[u32])>();
+    std::thread::scope(|scope| {
+        let others: Vec<_> = (1..threads.clamp(1, 64).min(targets.len()))
+            .map(|_| {
+                let tx = tx.clone();
+                scope.spawn(move || {
+                    let (mut row_out, mut lands) = scratch();
+                    let mut holes = 0;
+                    while let Some((k, mut dst)) = next() {
+                        holes += make(&targets[k], &mut dst, &mut row_out, &mut lands);
+                        if let Dst::Colour(c, _) = dst {
+                            // The receiver outlives every sender (scope).
+                            let _ = tx.send((k, &*c));
+                        }
+                    }
+                    holes
+                })
+            })
             .collect();
-        let own = run(0, mine);
-        others.into_iter().map(|h| h.join().unwrap_or(0)).sum::<u64>() + own
-    });
-    Some(holes)
+        drop(tx);
+        let (mut row_out, mut lands) = scratch();
+        let mut holes = 0;
+        while let Some((k, mut dst)) = next() {
+            holes += make(&targets[k], &mut dst, &mut row_out, &mut lands);
+            if let (Some(ready), Dst::Colour(c, _)) = (ready.as_mut(), dst) {
+                ready(k, c);
+                for (k, c) in rx.try_iter() {
+                    ready(k, c);
+                }
+            }
+        }
+        if let Some(ready) = ready.as_mut() {
+            for (k, c) in rx.iter() {
+                ready(k, c);
+            }
+        }
+        let theirs: Option<u64> = others.into_iter().map(|h| h.join().ok()).sum();
+        theirs.map(|t| t + holes)
+    })
 }
 
-/// One thread's share of `Output`.
+/// One target's part of `Output`.
 enum Dst<'a> {
     Warped(&'a mut [OutPixel]),
     Colour(&'a mut [u32], bool),
 }
 
 impl Dst<'_> {
-    fn len(&self) -> usize {
+    /// Row `y` (bottom-up).
+    fn put_row(&mut self, y: usize, height: usize, width: usize, row: &[OutPixel]) {
         match self {
-            Dst::Warped(o) => o.len(),
-            Dst::Colour(c, _) => c.len(),
-        }
-    }
-
-    /// Row `y` (bottom-up) of the target starting at `base`.
-    fn put_row(&mut self, base: usize, y: usize, height: usize, width: usize, row: &[OutPixel]) {
-        match self {
-            Dst::Warped(o) => o[base + y * width..][..width].copy_from_slice(row),
+            Dst::Warped(o) => o[y * width..][..width].copy_from_slice(row),
             Dst::Colour(c, flipped) => {
                 let y = if *flipped { height - 1 - y } else { y };
-                for (d, p) in c[base + y * width..][..width].iter_mut().zip(row) {
+                for (d, p) in c[y * width..][..width].iter_mut().zip(row) {
                     *d = p.color;
                 }
             }
@@ -189,7 +215,8 @@ fn mix_color(a: u32, b: u32, w: f32) -> u32 {
     if w >= 1.0 {
         return b;
     }
-    let wb = (w * 256.0 + 0.5) as u32;
+    // SAFETY: w is in (0, 1) here, so the value is in (0.5, 256.5): no saturation needed.
+    let wb: u32 = unsafe { (w * 256.0 + 0.5).to_int_unchecked() };
     let wa = 256 - wb;
     const M: u32 = 0x00ff_00ff;
     let rb = ((a & M) * wa + (b & M) * wb + 0x0080_0080) >> 8 & M;
@@ -221,22 +248,22 @@ impl Row<'_> {
         if self.s.reversed { a >= b } else { a <= b }
     }
 
-    fn run<'s>(&mut self, t: &TargetParams, source: impl Fn(usize) -> &'s [SrcPixel]) -> u64 {
+    fn run<'s>(&mut self, t: &TargetParams, lands: &mut Lands, source: impl Fn(usize) -> &'s [SrcPixel]) -> u64 {
         let [second, preferred] = t.src;
         if self.s.second_fills_holes {
-            self.scan(source(preferred), t.du[1]);
+            self.scan(lands, source(preferred), t.du[1]);
             self.first_scan = false;
             self.second = t.two;
             if t.two {
-                self.scan(source(second), t.du[0]);
+                self.scan(lands, source(second), t.du[0]);
             }
             self.row_done(t.two)
         } else {
             if t.two {
-                self.scan(source(second), t.du[0]);
+                self.scan(lands, source(second), t.du[0]);
                 self.first_scan = false;
             }
-            self.scan(source(preferred), t.du[1]);
+            self.scan(lands, source(preferred), t.du[1]);
             self.row_done(false)
         }
     }
@@ -285,20 +312,6 @@ impl Row<'_> {
             n += u64::from(o.depth >> 31);
         }
         if self.s.count_holes { n } else { 0 }
-    }
-
-    fn land(&self, row: &[SrcPixel], i: usize, k: f32, f: f32, dir: f32) -> Landed {
-        let p = row[if dir > 0.0 { i } else { self.width - 1 - i }];
-        let d = dir * (k * p.parallax + f);
-        let x = i as f32 + 0.5 + d;
-        let ok = x.abs() < 1.0e6;
-        Landed {
-            x: if ok { x } else { -1.0e30 },
-            d,
-            color: p.color,
-            z: p.depth,
-            ok,
-        }
     }
 
     fn emit(&mut self, x: usize, a: &Landed, b: &Landed, edge_a: bool, edge_b: bool, dir: f32) {
@@ -355,47 +368,111 @@ impl Row<'_> {
 
     /// The target row from one source row: the merge of the source walk and the target walk
     /// in occlusion order, as `scan` in the shader (whose comments say why it is right).
-    fn scan(&mut self, row: &[SrcPixel], du: f32) {
-        let (width, thr) = (self.width, self.s.threshold);
+    /// The shader takes one step of either walk per iteration so that SIMD lanes stay in step;
+    /// here the source walk runs ahead in an inner loop over landing points made beforehand
+    /// (`Lands`), and a target pixel inside a piece (the common case: no edge, no hole) takes
+    /// a short path: the same steps in the same order, and each pixel the same value as
+    /// `emit` gives it (tested against the shader's order).
+    fn scan(&mut self, lands: &mut Lands, row: &[SrcPixel], du: f32) {
         let (k, f) = (du * self.s.px.0, du * self.s.px.1);
-        let dir = if k > 0.0 { -1.0 } else { 1.0 };
-        let mut a = self.land(row, 0, k, f, dir);
-        let mut b = a;
-        let mut n = self.land(row, 1.min(width - 1), k, f, dir);
-        let (mut t, mut x) = (0usize, 0usize);
+        // Scanned in the direction nearer pixels move.
+        if k > 0.0 {
+            self.scan_towards::<true>(lands, row, k, f);
+        } else {
+            self.scan_towards::<false>(lands, row, k, f);
+        }
+    }
+
+    fn scan_towards<const MIRRORED: bool>(&mut self, lands: &mut Lands, row: &[SrcPixel], k: f32, f: f32) {
+        let (width, thr) = (self.width, self.s.threshold);
+        let dir = if MIRRORED { -1.0 } else { 1.0 };
+        let row = &row[..width];
+        let src = |i: usize| if MIRRORED { &row[width - 1 - i] } else { &row[i] };
+        lands.make(width, src, dir * k, dir * f, thr);
+        let (xs, ds, reach) = (&lands.x[..width], &lands.d[..width], &lands.reach[..width]);
+        let landed = |i: usize| {
+            let p = src(i);
+            Landed {
+                x: xs[i],
+                d: ds[i],
+                color: p.color,
+                z: p.depth,
+                ok: xs[i] > OFF_ROW,
+            }
+        };
+        let mut t = 0usize;
         let (mut h0, mut h1) = (1.0e30f32, -1.0e30f32);
         let mut front = -1.0e30f32;
-        let edge = |t: usize, b: &Landed, n: &Landed| t + 1 >= width || !n.ok || (n.d - b.d).abs() > thr;
-        for _ in 0..2 * width + 2 {
-            if x >= width {
-                break;
-            }
+        for x in 0..width {
             let c = x as f32 + 0.5;
-            let mut reach = b.x + if edge(t, &b, &n) { 0.5 } else { 0.0 };
-            if t < width && reach <= c {
-                if t > 0 && a.ok && b.ok && b.x < front - 0.5 && b.x + 0.5 > h0 && a.x.min(b.x) < h1 + 0.5 {
-                    self.over_holes(&a, &b, (b.d - a.d).abs() <= thr, c, (h0, h1), dir);
+            while t < width && reach[t] <= c {
+                let bx = xs[t];
+                if t > 0 && bx + 0.5 > h0 && bx < front - 0.5 && bx > OFF_ROW && xs[t - 1] > OFF_ROW {
+                    let (a, b) = (landed(t - 1), landed(t));
+                    if a.x.min(b.x) < h1 + 0.5 {
+                        self.over_holes(&a, &b, (b.d - a.d).abs() <= thr, c, (h0, h1), dir);
+                    }
                 }
-                front = front.max(b.x);
-                a = b;
-                b = n;
+                front = front.max(bx);
                 t += 1;
-                if t + 1 < width {
-                    n = self.land(row, t + 1, k, f, dir);
-                }
-                reach = b.x + if edge(t, &b, &n) { 0.5 } else { 0.0 };
             }
-            if t >= width || reach > c {
-                let gap =
-                    t > 0 && t < width && a.ok && b.ok && (b.d - a.d).abs() > thr && c >= a.x + 0.5 && c < b.x - 0.5;
-                if gap {
-                    h0 = h0.min(c);
-                    h1 = c;
+            if t > 0 && t < width {
+                let (ax, bx) = (xs[t - 1], xs[t]);
+                if c < bx && ax > OFF_ROW && bx > OFF_ROW && (ds[t] - ds[t - 1]).abs() <= thr {
+                    // Inside a piece: `emit`'s interpolation, nothing marked.
+                    let w = unit((c - ax) / (bx - ax));
+                    let (pa, pb) = (src(t - 1), src(t));
+                    let at = if MIRRORED { width - 1 - x } else { x };
+                    self.put(at, mix_color(pa.color, pb.color, w), mix(pa.depth, pb.depth, w), false);
+                    continue;
                 }
-                self.emit(x, &a, &b, t == 0, t >= width, dir);
-                x += 1;
             }
+            let (a, b) = (landed(t.saturating_sub(1)), landed(t.min(width - 1)));
+            let inside = t > 0 && t < width && a.ok && b.ok;
+            if inside && (b.d - a.d).abs() > thr && c >= a.x + 0.5 && c < b.x - 0.5 {
+                h0 = h0.min(c);
+                h1 = c;
+            }
+            self.emit(x, &a, &b, t == 0, t >= width, dir);
         }
+    }
+}
+
+/// Where a pixel that lands off the row is put (`land` in the shader): below every target
+/// pixel, so that the walk passes it at once.
+const OFF_ROW_X: f32 = -1.0e30;
+/// Every landing point above this is on the row.
+const OFF_ROW: f32 = -1.0e29;
+
+/// Where each pixel of a source row lands in the target, in scan order (`land` in the
+/// shader), and how far it reaches: the point beyond which the target walk has passed it
+/// (half a pixel more at a depth edge, where it keeps its own half pixel). Kept per thread.
+#[derive(Default)]
+struct Lands {
+    x: Vec<f32>,
+    d: Vec<f32>,
+    reach: Vec<f32>,
+}
+
+impl Lands {
+    /// `k`, `f`: the shift per unit of parallax and the constant shift, signed for the scan.
+    fn make<'r>(&mut self, width: usize, src: impl Fn(usize) -> &'r SrcPixel, k: f32, f: f32, thr: f32) {
+        self.x.resize(width, 0.0);
+        self.d.resize(width, 0.0);
+        self.reach.resize(width, 0.0);
+        let (xs, ds) = (&mut self.x[..width], &mut self.d[..width]);
+        for i in 0..width {
+            let d = k * src(i).parallax + f;
+            let x = i as f32 + 0.5 + d;
+            xs[i] = if x.abs() < 1.0e6 { x } else { OFF_ROW_X };
+            ds[i] = d;
+        }
+        let reach = &mut self.reach[..width];
+        for (i, r) in reach[..width - 1].iter_mut().enumerate() {
+            let edge = xs[i + 1] <= OFF_ROW || (ds[i + 1] - ds[i]).abs() > thr;
+            *r = xs[i] + if edge { 0.5 } else { 0.0 };
+        }
+        reach[width - 1] = xs[width - 1] + 0.5;
     }
 }
 

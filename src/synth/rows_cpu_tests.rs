@@ -124,18 +124,20 @@ fn colour_output_is_the_warped_colour_with_rows_turned_over_when_flipped() {
     let a = warp(&src, Output::Warped(&mut warped), (w, h), &targets, &settings(), 2);
     for flipped in [false, true] {
         let mut pixels = vec![0u32; w * h * 2];
-        let b = warp(
-            &src,
-            Output::Colour {
-                pixels: &mut pixels,
-                flipped,
-            },
-            (w, h),
-            &targets,
-            &settings(),
-            2,
-        );
+        let mut seen = Vec::new();
+        let mut ready = |k: usize, p: &[u32]| seen.push((k, p.to_vec()));
+        let out = Output::Colour {
+            pixels: &mut pixels,
+            flipped,
+            ready: &mut ready,
+        };
+        let b = warp(&src, out, (w, h), &targets, &settings(), 2);
         assert_eq!(a, b);
+        seen.sort();
+        assert_eq!(seen.iter().map(|s| s.0).collect::<Vec<_>>(), [0, 1], "each target once");
+        for (k, p) in &seen {
+            assert_eq!(&p[..], &pixels[k * w * h..][..w * h], "target {k} as made");
+        }
         for t in 0..2 {
             for y in 0..h {
                 let from = if flipped { h - 1 - y } else { y };
@@ -147,5 +149,120 @@ fn colour_output_is_the_warped_colour_with_rows_turned_over_when_flipped() {
                 );
             }
         }
+    }
+}
+
+/// The scan as the shader writes it (one step of either walk per iteration), kept to check
+/// that the CPU's reordering of the same steps changes nothing.
+mod reference {
+    use super::super::*;
+
+    #[allow(dead_code)]
+    fn land(r: &Row, row: &[SrcPixel], i: usize, k: f32, f: f32, dir: f32) -> Landed {
+        let p = row[if dir > 0.0 { i } else { r.width - 1 - i }];
+        let d = dir * (k * p.parallax + f);
+        let x = i as f32 + 0.5 + d;
+        let ok = x.abs() < 1.0e6;
+        Landed {
+            x: if ok { x } else { -1.0e30 },
+            d,
+            color: p.color,
+            z: p.depth,
+            ok,
+        }
+    }
+
+    pub fn scan(r: &mut Row, row: &[SrcPixel], du: f32) {
+        let (width, thr) = (r.width, r.s.threshold);
+        let (k, f) = (du * r.s.px.0, du * r.s.px.1);
+        let dir = if k > 0.0 { -1.0 } else { 1.0 };
+        let mut a = land(r, row, 0, k, f, dir);
+        let mut b = a;
+        let mut n = land(r, row, 1.min(width - 1), k, f, dir);
+        let (mut t, mut x) = (0usize, 0usize);
+        let (mut h0, mut h1) = (1.0e30f32, -1.0e30f32);
+        let mut front = -1.0e30f32;
+        let edge = |t: usize, b: &Landed, n: &Landed| t + 1 >= width || !n.ok || (n.d - b.d).abs() > thr;
+        for _ in 0..2 * width + 2 {
+            if x >= width {
+                break;
+            }
+            let c = x as f32 + 0.5;
+            let mut reach = b.x + if edge(t, &b, &n) { 0.5 } else { 0.0 };
+            if t < width && reach <= c {
+                if t > 0 && a.ok && b.ok && b.x < front - 0.5 && b.x + 0.5 > h0 && a.x.min(b.x) < h1 + 0.5 {
+                    r.over_holes(&a, &b, (b.d - a.d).abs() <= thr, c, (h0, h1), dir);
+                }
+                front = front.max(b.x);
+                a = b;
+                b = n;
+                t += 1;
+                if t + 1 < width {
+                    n = land(r, row, t + 1, k, f, dir);
+                }
+                reach = b.x + if edge(t, &b, &n) { 0.5 } else { 0.0 };
+            }
+            if t >= width || reach > c {
+                let gap =
+                    t > 0 && t < width && a.ok && b.ok && (b.d - a.d).abs() > thr && c >= a.x + 0.5 && c < b.x - 0.5;
+                if gap {
+                    h0 = h0.min(c);
+                    h1 = c;
+                }
+                r.emit(x, &a, &b, t == 0, t >= width, dir);
+                x += 1;
+            }
+        }
+    }
+}
+
+#[test]
+fn the_scan_makes_what_the_shaders_order_of_steps_makes() {
+    let width = 61;
+    let s = Settings {
+        px: (9.0, 1.5),
+        ..settings()
+    };
+    let mut seed = 12345u32;
+    let mut next = move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 17;
+        seed ^= seed << 5;
+        seed
+    };
+    let mut lands = Lands::default();
+    for trial in 0..400 {
+        // Runs of planes with steps between them, some pixels far off the row (not ok).
+        let mut p = 0.0f32;
+        let row: Vec<SrcPixel> = (0..width)
+            .map(|i| {
+                if next() % 7 == 0 {
+                    p = (next() % 1000) as f32 / 500.0 - 1.0;
+                }
+                p += 0.01;
+                SrcPixel {
+                    color: next(),
+                    depth: (p + 1.0) / 3.0,
+                    parallax: if trial % 50 == 0 && i == 30 { 1.0e7 } else { p },
+                }
+            })
+            .collect();
+        let du = (next() % 2000) as f32 / 1000.0 - 1.0;
+        let (mut want, mut got) = (vec![OutPixel::default(); width], vec![OutPixel::default(); width]);
+        for (out, ours) in [(&mut want, false), (&mut got, true)] {
+            let mut r = Row {
+                out,
+                width,
+                s: &s,
+                first_scan: true,
+                second: false,
+            };
+            if ours {
+                r.scan(&mut lands, &row, du);
+            } else {
+                reference::scan(&mut r, &row, du);
+            }
+        }
+        assert_eq!(want, got, "trial {trial}, du {du}");
     }
 }

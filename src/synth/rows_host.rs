@@ -58,17 +58,20 @@ pub fn warp(
         let src = Mapped::new(gl, out.packed, n_src * size_of::<SrcPixel>(), MAP_READ_BIT);
         let sources = src.slice::<SrcPixel>(n_src).ok_or("its sources could not be mapped")?;
         let holes = match direct {
-            Some(d) => rows_cpu::warp(
-                sources,
-                Output::Colour {
+            Some(d) => {
+                let unpack = crate::gl::unpack::UnpackState::neutral(gl);
+                gl.ActiveTexture(TEXTURE0);
+                gl.BindTexture(TEXTURE_2D, d.texture);
+                let mut ready = |k: usize, pixels: &[u32]| upload(gl, job, d, k, pixels);
+                let output = Output::Colour {
                     pixels: colour,
                     flipped: d.flipped,
-                },
-                tile,
-                &targets,
-                &settings,
-                threads,
-            ),
+                    ready: &mut ready,
+                };
+                let holes = rows_cpu::warp(sources, output, tile, &targets, &settings, threads);
+                unpack.restore(gl);
+                holes
+            }
             None => {
                 let n_out = pixels * targets.len();
                 let dst = Mapped::new(gl, out.warped, n_out * size_of::<OutPixel>(), MAP_WRITE_BIT);
@@ -81,13 +84,14 @@ pub fn warp(
             }
         };
         src.unmap()?;
-        holes.ok_or("its storage does not hold what the targets name")?
+        holes.ok_or("its storage does not hold what the targets name, or a thread failed")?
     };
     set_holes(gl, out, holes);
-    profile.lap("rows");
-    let Some(d) = direct else { return Ok(Done::Warped) };
-    upload(gl, job, d, colour);
-    profile.lap("upload");
+    // With direct colour the uploads ran inside the scan, as each target was made.
+    profile.lap(if direct.is_some() { "rows+upload" } else { "rows" });
+    if direct.is_none() {
+        return Ok(Done::Warped);
+    }
     Ok(Done::InTiles)
 }
 
@@ -130,24 +134,20 @@ fn set_holes(gl: &Gl, out: &RowTargets, holes: u64) {
     }
 }
 
-/// Each target's colour into its tile of the quilt's texture, rows as it stores them.
-fn upload(gl: &Gl, job: &Job, d: super::DirectColor, colour: &[u32]) {
+/// Target `k`'s colour into its tile of the quilt's texture (bound on unit 0, the unpack
+/// state neutral), rows as it stores them.
+fn upload(gl: &Gl, job: &Job, d: super::DirectColor, k: usize, pixels: &[u32]) {
     let (w, h) = job.tile;
-    let layer = (w.max(0) * h.max(0)) as usize;
-    let unpack = crate::gl::unpack::UnpackState::neutral(gl);
-    // SAFETY: `colour` holds `layer` pixels per target (`warp` sized it); tight rows from
-    // client memory (`neutral`); the texture binding is restored by the caller's guard
-    // (unit 0, `for_pass`), the unpack state by `restore`.
-    unsafe {
-        gl.ActiveTexture(TEXTURE0);
-        gl.BindTexture(TEXTURE_2D, d.texture);
-        for (t, pixels) in job.targets.iter().zip(colour.chunks_exact(layer)) {
-            let [x, y, ..] = t.rect;
-            let y = if d.flipped { d.height - y - h } else { y };
-            gl.TexSubImage2D(TEXTURE_2D, 0, x, y, w, h, RGBA, UNSIGNED_BYTE, pixels.as_ptr().cast());
-        }
+    let Some(t) = job.targets.get(k) else { return };
+    if pixels.len() < (w.max(0) * h.max(0)) as usize {
+        return;
     }
-    unpack.restore(gl);
+    let [x, y, ..] = t.rect;
+    let y = if d.flipped { d.height - y - h } else { y };
+    // SAFETY: `pixels` holds the tile's `w * h` pixels (checked), read as tight rows from
+    // client memory (the caller made the unpack state neutral); the texture is bound by the
+    // caller, whose guard restores the binding.
+    unsafe { gl.TexSubImage2D(TEXTURE_2D, 0, x, y, w, h, RGBA, UNSIGNED_BYTE, pixels.as_ptr().cast()) };
 }
 
 /// One of our buffers mapped through ARRAY_BUFFER; unmapped by `unmap` (or on drop, when an
