@@ -70,6 +70,7 @@ fn bench(c: &mut Criterion) {
                 let out = Output::Colour {
                     pixels: &mut pixels,
                     flipped: true,
+                    ready: &mut |_, _| {},
                 };
                 rows_cpu::warp(&sources, out, TILE, &targets, &settings, threads)
             })

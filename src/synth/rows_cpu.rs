@@ -61,7 +61,7 @@ pub enum Output<'a> {
     Colour {
         pixels: &'a mut [u32],
         flipped: bool,
-        ready: &'a mut dyn FnMut(usize, &[u32]),
+        ready: Ready<'a>,
     },
 }
 
@@ -96,7 +96,7 @@ pub fn warp(
     {
         return None;
     }
-    let (jobs, mut ready): (Vec<Dst>, Option<&mut dyn FnMut(usize, &[u32])>) = match out {
+    let (jobs, mut ready): (Vec<Dst>, Option<Ready>) = match out {
         Output::Warped(o) => (
             o[..layer * targets.len()].chunks_mut(layer).map(Dst::Warped).collect(),
             None,
@@ -169,6 +169,9 @@ pub fn warp(
         theirs.map(|t| t + holes)
     })
 }
+
+/// `Output::Colour`'s `ready`.
+type Ready<'a> = &'a mut dyn FnMut(usize, &[u32]);
 
 /// One target's part of `Output`.
 enum Dst<'a> {

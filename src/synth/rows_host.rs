@@ -175,7 +175,7 @@ impl<'a> Mapped<'a> {
     /// # Safety
     /// The mapping holds `n` values of `T`, and nothing else writes it meanwhile.
     unsafe fn slice<T>(&self, n: usize) -> Option<&[T]> {
-        let ok = !self.ptr.is_null() && (self.ptr as usize) % align_of::<T>() == 0;
+        let ok = !self.ptr.is_null() && (self.ptr as usize).is_multiple_of(align_of::<T>());
         // SAFETY: as the caller promises.
         ok.then(|| unsafe { std::slice::from_raw_parts(self.ptr.cast(), n) })
     }
@@ -184,7 +184,7 @@ impl<'a> Mapped<'a> {
     /// As `slice`, and nothing else reads or writes it meanwhile.
     #[allow(clippy::mut_from_ref)]
     unsafe fn slice_mut<T>(&self, n: usize) -> Option<&mut [T]> {
-        let ok = !self.ptr.is_null() && (self.ptr as usize) % align_of::<T>() == 0;
+        let ok = !self.ptr.is_null() && (self.ptr as usize).is_multiple_of(align_of::<T>());
         // SAFETY: as the caller promises.
         ok.then(|| unsafe { std::slice::from_raw_parts_mut(self.ptr.cast(), n) })
     }
