@@ -26,6 +26,7 @@ mod output_modes;
 mod real_programs;
 mod reattachment;
 mod reuse;
+mod rows_on_cpu;
 mod sample_apps;
 mod synthesis;
 mod synthesis_pixel;
