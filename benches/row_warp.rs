@@ -35,6 +35,43 @@ fn scene() -> Vec<SrcPixel> {
     out
 }
 
+/// Asteroids' shape: small rocks near the screen over a background at infinity, so that
+/// every rock opens a disocclusion as wide as the background's shift.
+fn rocks() -> Vec<SrcPixel> {
+    let (w, h) = TILE;
+    let mut out: Vec<SrcPixel> = (0..w * h)
+        .map(|i| SrcPixel {
+            color: (i as u32).wrapping_mul(2_246_822_519) | 0xff00_0000,
+            depth: 1.0,
+            parallax: 1.0,
+        })
+        .collect();
+    let mut seed = 7u32;
+    for _ in 0..400 {
+        seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+        let (cx, cy, r) = (
+            (seed >> 8) as usize % w,
+            (seed >> 16) as usize % h,
+            4 + (seed >> 24) as usize % 14,
+        );
+        let depth = 0.3 + (seed % 97) as f32 / 200.0;
+        for y in cy.saturating_sub(r)..(cy + r).min(h) {
+            for x in cx.saturating_sub(r)..(cx + r).min(w) {
+                let (dx, dy) = (x as f32 - cx as f32, y as f32 - cy as f32);
+                if dx * dx + dy * dy < (r * r) as f32 {
+                    let z = depth + 0.002 * (dx * dx + dy * dy).sqrt();
+                    out[y * w + x] = SrcPixel {
+                        color: seed | 0xff00_0000,
+                        depth: z,
+                        parallax: z - 0.5,
+                    };
+                }
+            }
+        }
+    }
+    out
+}
+
 fn targets() -> Vec<TargetParams> {
     (0..48)
         .filter(|&i| i != 24)
@@ -50,7 +87,6 @@ fn targets() -> Vec<TargetParams> {
 }
 
 fn bench(c: &mut Criterion) {
-    let sources = scene();
     let targets = targets();
     let settings = Settings {
         px: (40.0, 0.0),
@@ -64,15 +100,18 @@ fn bench(c: &mut Criterion) {
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let mut group = c.benchmark_group("row warp, 47 targets of 420x560");
     group.sample_size(10);
-    for threads in [1, cores] {
-        group.bench_function(format!("{threads} thread(s)"), |b| {
+    for ((name, sources), threads) in [("boxes", scene()), ("rocks", rocks())]
+        .iter()
+        .flat_map(|s| [(s, 1), (s, cores)])
+    {
+        group.bench_function(format!("{name}, {threads} thread(s)"), |b| {
             b.iter(|| {
                 let out = Output::Colour {
                     pixels: &mut pixels,
                     flipped: true,
                     ready: &mut |_, _| {},
                 };
-                rows_cpu::warp(&sources, out, TILE, &targets, &settings, threads)
+                rows_cpu::warp(sources, out, TILE, &targets, &settings, threads)
             })
         });
     }

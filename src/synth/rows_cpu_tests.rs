@@ -266,3 +266,25 @@ fn the_scan_makes_what_the_shaders_order_of_steps_makes() {
         assert_eq!(want, got, "trial {trial}, du {du}");
     }
 }
+
+#[test]
+fn ceil_is_the_library_ceil() {
+    for v in [
+        0.0f32,
+        -0.0,
+        0.5,
+        -0.5,
+        1.0,
+        -1.0,
+        1.5,
+        -1.5,
+        419.99,
+        1.0e-30,
+        -1.0e-30,
+        1.0e30,
+        -1.0e30,
+        f32::NAN,
+    ] {
+        assert_eq!(ceil(v), v.ceil() as i64, "{v}");
+    }
+}
