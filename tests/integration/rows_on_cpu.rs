@@ -8,8 +8,7 @@ use crate::util::*;
 /// The trace line of frame 3's synthesis passes.
 fn passes(log: &str) -> &str {
     log.lines()
-        .filter(|l| l.contains("synthesis passes:"))
-        .last()
+        .rfind(|l| l.contains("synthesis passes:"))
         .unwrap_or_else(|| panic!("no synthesis passes traced:\n{log}"))
 }
 
