@@ -30,6 +30,32 @@ fn plane(width: usize, p: f32) -> Vec<SrcPixel> {
         .collect()
 }
 
+/// `n` pixels of scattered colours, depths and parallaxes (depth minus `off`), `step` apart
+/// modulo `m`.
+fn scrambled(n: usize, step: usize, m: usize, off: f32) -> Vec<SrcPixel> {
+    (0..n)
+        .map(|i| {
+            let v = ((i * step) % m) as f32 / m as f32;
+            SrcPixel {
+                color: (i as u32).wrapping_mul(2_654_435_761),
+                depth: v,
+                parallax: v - off,
+            }
+        })
+        .collect()
+}
+
+/// Targets at these camera offsets from source 0.
+fn from_one_source(du: &[f32]) -> Vec<TargetParams> {
+    du.iter()
+        .map(|&du| TargetParams {
+            du: [du, du],
+            src: [0, 0],
+            two: false,
+        })
+        .collect()
+}
+
 #[test]
 fn a_whole_pixel_shift_moves_a_plane_by_that_many_pixels_and_marks_the_border() {
     let src = plane(8, 0.2);
@@ -62,21 +88,8 @@ fn nearer_wins_over_a_farther_pixel_landing_on_it() {
 #[test]
 fn threads_make_the_same_rows() {
     let (w, h) = (37, 9);
-    let src: Vec<SrcPixel> = (0..w * h)
-        .map(|i| SrcPixel {
-            color: (i as u32).wrapping_mul(2_654_435_761),
-            depth: ((i * 7919) % 101) as f32 / 101.0,
-            parallax: ((i * 7919) % 101) as f32 / 101.0 - 0.3,
-        })
-        .collect();
-    let targets: Vec<TargetParams> = [-1.0f32, -0.4, 0.3, 0.9]
-        .iter()
-        .map(|&du| TargetParams {
-            du: [du, du],
-            src: [0, 0],
-            two: false,
-        })
-        .collect();
+    let src = scrambled(w * h, 7919, 101, 0.3);
+    let targets = from_one_source(&[-1.0, -0.4, 0.3, 0.9]);
     let mut one_thread = vec![OutPixel::default(); w * h * 4];
     let mut three = one_thread.clone();
     let a = warp(&src, Output::Warped(&mut one_thread), (w, h), &targets, &settings(), 1);
@@ -105,21 +118,8 @@ fn storage_smaller_than_the_targets_name_is_refused() {
 #[test]
 fn colour_output_is_the_warped_colour_with_rows_turned_over_when_flipped() {
     let (w, h) = (23, 5);
-    let src: Vec<SrcPixel> = (0..w * h)
-        .map(|i| SrcPixel {
-            color: (i as u32).wrapping_mul(2_246_822_519),
-            depth: ((i * 31) % 17) as f32 / 17.0,
-            parallax: ((i * 31) % 17) as f32 / 17.0 - 0.5,
-        })
-        .collect();
-    let targets: Vec<TargetParams> = [-0.7f32, 0.5]
-        .iter()
-        .map(|&du| TargetParams {
-            du: [du, du],
-            src: [0, 0],
-            two: false,
-        })
-        .collect();
+    let src = scrambled(w * h, 31, 17, 0.5);
+    let targets = from_one_source(&[-0.7, 0.5]);
     let mut warped = vec![OutPixel::default(); w * h * 2];
     let a = warp(&src, Output::Warped(&mut warped), (w, h), &targets, &settings(), 2);
     for flipped in [false, true] {
