@@ -21,7 +21,7 @@ const RESOLVE_FRAG: &str = include_str!("../../glsl-patches/synth_resolve.frag")
 /// Rows per work group (`local_size_x` of synth_rows.comp).
 const ROWS_PER_GROUP: u32 = 32;
 /// Window depth between a disocclusion fill and the surface it stretches.
-pub(super) const FILL_BIAS: f32 = 1.0 / 16384.0;
+const FILL_BIAS: f32 = 1.0 / 16384.0;
 
 #[derive(Clone, Copy, Debug)]
 pub struct RowPrograms {
@@ -50,14 +50,14 @@ impl RowPrograms {
 /// (8 bytes per pixel) and the targets' parameters.
 #[derive(Debug, PartialEq)]
 pub struct RowTargets {
-    pub(super) tile: (i32, i32),
-    pub(super) sources: usize,
-    pub(super) count: usize,
-    pub(super) packed: u32,
-    pub(super) warped: u32,
+    tile: (i32, i32),
+    sources: usize,
+    count: usize,
+    packed: u32,
+    warped: u32,
     params: u32,
     /// One counter: the pixels of the last warp's targets filled over holes.
-    pub(super) holes: u32,
+    holes: u32,
     /// A buffer texture (RG32UI) over `warped`, which the resolve pass reads.
     warped_view: u32,
 }
@@ -82,6 +82,19 @@ fn storage(gl: &Gl, bytes: usize) -> u32 {
 }
 
 impl RowTargets {
+    /// The storage as the CPU's scan sees it.
+    fn storage(&self) -> rows_host::Storage {
+        rows_host::Storage {
+            tile: self.tile,
+            sources: self.sources,
+            count: self.count,
+            packed: self.packed,
+            warped: self.warped,
+            holes: self.holes,
+            fill_bias: FILL_BIAS,
+        }
+    }
+
     pub fn create(gl: &Gl, tile: (i32, i32), sources: usize, count: usize) -> RowTargets {
         let pixels = tile.0.max(1) as usize * tile.1.max(1) as usize;
         RowTargets {
@@ -162,7 +175,7 @@ pub fn run(
         profile.lap("parallax");
     }
     if on_cpu {
-        match rows_host::warp(pass, out, job, colour, &mut profile) {
+        match rows_host::warp(pass, &out.storage(), job, colour, &mut profile) {
             Ok(rows_host::Done::InTiles) => return Ok(()),
             Ok(rows_host::Done::Warped) => {}
             Err(e) => {

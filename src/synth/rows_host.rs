@@ -14,10 +14,23 @@
 use super::Job;
 use super::pass::Pass;
 use super::profile::Profile;
-use super::rows::{FILL_BIAS, RowTargets};
 use super::rows_cpu::{self, OutPixel, Output, SrcPixel};
 use crate::gl::types::GLbitfield;
 use crate::gl::*;
+
+/// The row warp's storage (`rows::RowTargets`), as the scan reads and writes it.
+pub struct Storage {
+    pub tile: (i32, i32),
+    pub sources: usize,
+    pub count: usize,
+    /// The sources packed per pixel (`SrcPixel`), and the warped targets (`OutPixel`).
+    pub packed: u32,
+    pub warped: u32,
+    /// The hole counter.
+    pub holes: u32,
+    /// How far a gap's fill is pushed back (depth units), as the shader's.
+    pub fill_bias: f32,
+}
 
 /// What the scan left.
 pub enum Done {
@@ -31,7 +44,7 @@ pub enum Done {
 /// packing passes); `colour`: scratch kept between frames for the direct upload.
 pub fn warp(
     pass: &Pass,
-    out: &RowTargets,
+    out: &Storage,
     job: &Job,
     colour: &mut Vec<u32>,
     profile: &mut Profile,
@@ -43,7 +56,7 @@ pub fn warp(
         return Err("its storage does not fit the job".into());
     }
     let targets = params(job);
-    let settings = settings(job);
+    let settings = settings(job, out.fill_bias);
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
     let n_src = pixels * out.sources;
     let direct = job.direct.filter(|d| d.height >= job.tile.1);
@@ -112,20 +125,20 @@ fn params(job: &Job) -> Vec<rows_cpu::TargetParams> {
 }
 
 /// The shader's uniforms.
-fn settings(job: &Job) -> rows_cpu::Settings {
+fn settings(job: &Job, bias: f32) -> rows_cpu::Settings {
     let px = job.tile.0 as f64 / 2.0;
     rows_cpu::Settings {
         px: ((job.depthiness * px) as f32, (job.focus * px) as f32),
         threshold: job.threshold as f32,
         reversed: job.model.reversed,
-        far_bias: if job.model.reversed { -FILL_BIAS } else { FILL_BIAS },
+        far_bias: if job.model.reversed { -bias } else { bias },
         count_holes: job.count_holes,
         second_fills_holes: job.second_fills_holes,
     }
 }
 
 /// The hole counter the compute pass would have left.
-fn set_holes(gl: &Gl, out: &RowTargets, holes: u64) {
+fn set_holes(gl: &Gl, out: &Storage, holes: u64) {
     let count = holes.min(u64::from(u32::MAX)) as u32;
     // SAFETY: four bytes into our own counter; ARRAY_BUFFER is restored by the caller's guard.
     unsafe {
