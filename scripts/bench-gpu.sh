@@ -8,10 +8,10 @@
 #
 # Writes the machine (GL renderer, CPU, date, git revision), the table and the counts into
 # one Markdown file (default ./bench-gpu-HOST-DATE.md) and prints it. Builds the binaries if
-# they are missing. A software renderer (llvmpipe here) gets the fewest frames that still
-# give a median and one round; a GPU gets 40 frames and 3 rounds. A scene still running when
-# the budget is spent is cut, and the file says so. --quilt-metrics adds bench-trade's FLIP
-# and disparity error: CPU work of about 2 minutes per scene, more than the budget allows.
+# they are missing. A software renderer (llvmpipe here) gets 20 frames and one round, a GPU
+# 40 frames and 3 rounds. A scene still running when the budget is spent is cut, and the
+# file says so. --quilt-metrics adds bench-trade's FLIP and disparity error: CPU work of
+# about 2 minutes per scene, more than the budget allows.
 set -euo pipefail
 
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -93,11 +93,13 @@ machine() {
     echo "- date: $(date -u '+%Y-%m-%d %H:%M UTC'), host $(hostname), revision $rev$dirty"
 }
 
-# A software renderer is 10-100 times slower: 12 frames is 2 timed after the layer's 10
-# warm-up frames (frame 10 is the measured one), and one round fits 8 minutes on 2 cores.
+# A software renderer is 10-100 times slower: 20 frames is 9 timed after the layer's 10
+# warm-up frames (frames 10 and 20 are the measured ones), and one round fits 8 minutes on 2
+# cores (4 minutes here). 12 frames timed two, the one after a measured frame among them:
+# synth read 194 ms a frame on cubes and 335 on deferred where 20 frames read 93 and 106.
 pick_counts() {
     if grep -qiE 'llvmpipe|softpipe|swrast|software' <<<"$RENDERER"; then
-        FRAMES=${FRAMES:-12} ROUNDS=${ROUNDS:-1}
+        FRAMES=${FRAMES:-20} ROUNDS=${ROUNDS:-1}
     else
         FRAMES=${FRAMES:-40} ROUNDS=${ROUNDS:-3}
     fi
