@@ -68,6 +68,24 @@ impl GlInfo {
     }
 }
 
+/// The context's renderer is a software rasteriser, whose "GPU" is this machine's CPU:
+/// llvmpipe, softpipe, OpenSWR, SwiftShader, the classic swrast ("Software Rasterizer").
+pub fn software_renderer(gl: &super::Gl) -> bool {
+    // SAFETY: glGetString returns a static NUL-terminated string or null.
+    let renderer = unsafe {
+        let p = gl.GetString(super::RENDERER);
+        if p.is_null() {
+            return false;
+        }
+        std::ffi::CStr::from_ptr(p.cast())
+            .to_string_lossy()
+            .to_ascii_lowercase()
+    };
+    ["llvmpipe", "softpipe", "swr", "swiftshader", "software rasterizer"]
+        .iter()
+        .any(|s| renderer.contains(s))
+}
+
 #[cfg(test)]
 mod tests {
     use super::GlInfo;

@@ -27,7 +27,7 @@ pub mod egl;
 pub mod format;
 pub mod guard;
 mod info;
-pub use info::GlInfo;
+pub use info::{GlInfo, software_renderer};
 pub mod pbo;
 pub mod program;
 pub mod readback;

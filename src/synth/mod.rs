@@ -148,29 +148,11 @@ pub struct Synthesizer {
     captured: Option<(usize, GLenum)>,
     /// Bit j: source j's disparity record is in our array (with the depth it was taken with).
     recorded: u64,
-    /// The context renders on the CPU (`software`), asked once.
+    /// The context renders on the CPU (`gl::software_renderer`), asked once.
     software: Option<bool>,
     /// The CPU row warp's colour, kept between frames (`rows_host`): a new allocation of a
     /// quilt's worth every frame would fault in every page again.
     cpu_colour: Vec<u32>,
-}
-
-/// The context's renderer is a software rasteriser, whose "GPU" is this machine's CPU:
-/// llvmpipe, softpipe, OpenSWR, the classic swrast.
-fn software(gl: &Gl) -> bool {
-    // SAFETY: glGetString returns a static NUL-terminated string or null.
-    let renderer = unsafe {
-        let p = gl.GetString(RENDERER);
-        if p.is_null() {
-            return false;
-        }
-        std::ffi::CStr::from_ptr(p.cast())
-            .to_string_lossy()
-            .to_ascii_lowercase()
-    };
-    ["llvmpipe", "softpipe", "swr", "swiftshader", "software rasterizer"]
-        .iter()
-        .any(|s| renderer.contains(s))
 }
 
 impl Synthesizer {
@@ -267,7 +249,7 @@ impl Synthesizer {
         )?;
         let on_cpu = job
             .rows_on_cpu
-            .unwrap_or_else(|| *self.software.get_or_insert_with(|| software(gl)));
+            .unwrap_or_else(|| *self.software.get_or_insert_with(|| crate::gl::software_renderer(gl)));
         rows::run(&pass, &row_programs, out, job, (on_cpu, &mut self.cpu_colour))
     }
 

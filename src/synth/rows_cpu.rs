@@ -43,9 +43,9 @@ impl Output<'_> {
 /// into `out`, on up to `threads` threads taking the next target as they finish one; the
 /// pixels left filled over holes when counted. `None` when the storage does not hold what
 /// the targets name, or a thread failed.
-pub fn warp(
+pub fn warp<'o>(
     sources: &[SrcPixel],
-    out: Output,
+    out: Output<'o>,
     tile: (usize, usize),
     targets: &[TargetParams],
     s: &Settings,
@@ -93,38 +93,40 @@ pub fn warp(
         }
         holes
     };
-    let scratch = || (vec![OutPixel::default(); width], Lands::default());
+    // One thread's share: targets from the queue until it is empty, each handed to `made`.
+    let work = |made: &mut dyn FnMut(usize, Dst<'o>)| {
+        let (mut row_out, mut lands) = (vec![OutPixel::default(); width], Lands::default());
+        let mut holes = 0;
+        while let Some((k, mut dst)) = next() {
+            holes += make(&targets[k], &mut dst, &mut row_out, &mut lands);
+            made(k, dst);
+        }
+        holes
+    };
     let (tx, rx) = std::sync::mpsc::channel::<(usize, &[u32])>();
     std::thread::scope(|scope| {
         let others: Vec<_> = (1..threads.clamp(1, 64).min(targets.len()))
             .map(|_| {
                 let tx = tx.clone();
                 scope.spawn(move || {
-                    let (mut row_out, mut lands) = scratch();
-                    let mut holes = 0;
-                    while let Some((k, mut dst)) = next() {
-                        holes += make(&targets[k], &mut dst, &mut row_out, &mut lands);
+                    work(&mut |k, dst| {
                         if let Dst::Colour(c, _) = dst {
                             // The receiver outlives every sender (scope).
                             let _ = tx.send((k, &*c));
                         }
-                    }
-                    holes
+                    })
                 })
             })
             .collect();
         drop(tx);
-        let (mut row_out, mut lands) = scratch();
-        let mut holes = 0;
-        while let Some((k, mut dst)) = next() {
-            holes += make(&targets[k], &mut dst, &mut row_out, &mut lands);
+        let holes = work(&mut |k, dst| {
             if let (Some(ready), Dst::Colour(c, _)) = (ready.as_mut(), dst) {
                 ready(k, c);
                 for (k, c) in rx.try_iter() {
                     ready(k, c);
                 }
             }
-        }
+        });
         if let Some(ready) = ready.as_mut() {
             for (k, c) in rx.iter() {
                 ready(k, c);
@@ -160,5 +162,4 @@ impl Dst<'_> {
 }
 
 #[cfg(test)]
-#[path = "rows_cpu_tests.rs"]
 mod tests;

@@ -6,7 +6,7 @@
 //!
 //! Why: under llvmpipe the GPU is this machine's CPU. Its compute passes run every storage
 //! load and store one lane at a time in a bounds-checked loop, and a fragment pass that
-//! copies what a compute pass made costs a full-tile pass of its own (issue 23: rows 2.5-5
+//! copies what a compute pass made costs a full-tile pass of its own (issue 23: rows 2.3-4.3
 //! floors, the resolve one more). The same scan written for the CPU, with its output
 //! uploaded by `glTexSubImage2D` from client memory (Mesa's memcpy path), costs less than
 //! that pass alone.
@@ -57,7 +57,7 @@ pub fn warp(
     }
     let targets = params(job);
     let settings = settings(job, out.fill_bias);
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let threads = threads();
     let n_src = pixels * out.sources;
     let direct = job.direct.filter(|d| d.height >= job.tile.1);
     if direct.is_some() {
@@ -106,6 +106,13 @@ pub fn warp(
         return Ok(Done::Warped);
     }
     Ok(Done::InTiles)
+}
+
+/// The threads the scan runs on, asked once: `available_parallelism` reads the process's
+/// cgroup files on Linux, not a thing to do every frame inside the program.
+fn threads() -> usize {
+    static THREADS: std::sync::OnceLock<usize> = std::sync::OnceLock::new();
+    *THREADS.get_or_init(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
 }
 
 /// Each target's camera offsets from its sources, as the shader's `Target`.
