@@ -95,6 +95,7 @@ fn bench(c: &mut Criterion) {
         far_bias: 1.0 / 16384.0,
         count_holes: false,
         second_fills_holes: true,
+        guard: 0,
     };
     let mut pixels = vec![0u32; TILE.0 * TILE.1 * targets.len()];
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());

@@ -18,6 +18,7 @@ const int MAX_GAUSSIAN_RADIUS = 8;
 const float ONE_BELOW = 0.99999994; // largest float below 1
 
 uniform sampler2D u_quilt;
+uniform ivec2 u_tile;
 uniform float u_pitch;      // pitch' = pitch * (screenW / DPI) * cos(atan(1 / slope))
 uniform float u_tilt;       // screenH / (screenW * slope), negated by flipImageX
 uniform float u_subp;       // 1 / (3 * screenW), negated by flipImageX
@@ -68,7 +69,9 @@ float view_for(ivec2 p, vec2 uv, int ch)
 // Channel ch of view k at tile coordinates uv, nearest texel.
 float tap(int k, vec2 uv, int ch)
 {
-    ivec2 tile = textureSize(u_quilt, 0) / ivec2(u_cols, u_rows);
+    // The tile size as the layer lays the quilt out: the texture may be wider (the guard
+    // band's columns beyond the tiles).
+    ivec2 tile = u_tile;
     ivec2 t = min(ivec2(uv * vec2(tile)), tile - 1);
     int cell = k == u_swap.x ? u_swap.y : (k == u_swap.y ? u_swap.x : k);
     ivec2 p = ivec2(cell % u_cols, cell / u_cols) * tile + t;

@@ -54,6 +54,10 @@ layout(std430, binding = 0) readonly buffer Targets { Target targets[]; };
 
 int row;
 int width;
+// A source row is wider by the guard band on both sides (`u_guard` px, 0 without one): its
+// pixel i sits at target column i - u_guard.
+uniform int u_guard;
+int src_width;
 // Index of this row's first pixel in the output.
 int out_base;
 
@@ -136,9 +140,9 @@ struct Landed {
 // to the right of the scan (see `scan`).
 Landed land(int base, int i, float k, float f, float dir)
 {
-    Pixel s = src_pixels[base + (dir > 0.0 ? i : width - 1 - i)];
+    Pixel s = src_pixels[base + (dir > 0.0 ? i : src_width - 1 - i)];
     float d = dir * (k * s.parallax + f);
-    float X = float(i) + 0.5 + d;
+    float X = float(i - u_guard) + 0.5 + d;
     bool ok = abs(X) < 1.0e6;
     return Landed(ok ? X : -1.0e30, d, s.color, s.depth, ok);
 }
@@ -226,12 +230,12 @@ void scan(int src, float du)
     float k = du * u_px.x, f = du * u_px.y;
     // Parallax grows with distance, so with k > 0 nearer pixels move left: mirror the row.
     float dir = k > 0.0 ? -1.0 : 1.0;
-    int base = (src * u_tile.y + row) * width;
+    int base = (src * u_tile.y + row) * src_width;
     Landed a = land(base, 0, k, f, dir);
     Landed b = a;
     // The pixel after b: where (b, n) is a depth edge, b keeps its right half-pixel whatever
     // lands under it, so b is passed only once c is beyond X + 1/2 ("reach").
-    Landed n = land(base, min(1, width - 1), k, f, dir);
+    Landed n = land(base, min(1, src_width - 1), k, f, dir);
     int t = 0;
     int x = 0;
     // Centres of the first and last stretched pixels written between two landed ones, and the
@@ -239,11 +243,11 @@ void scan(int src, float du)
     // written, where it can only replace stretches.
     float h0 = 1.0e30, h1 = -1.0e30;
     float front = -1.0e30;
-    for (int step = 0; step < 2 * width + 2 && x < width; step++) {
+    for (int step = 0; step < 2 * src_width + 2 && x < width; step++) {
         float c = float(x) + 0.5;
-        bool edge_after = t + 1 >= width || !n.ok || abs(n.d - b.d) > u_threshold;
+        bool edge_after = t + 1 >= src_width || !n.ok || abs(n.d - b.d) > u_threshold;
         float reach = b.X + (edge_after ? 0.5 : 0.0);
-        if (t < width && reach <= c) {
+        if (t < src_width && reach <= c) {
             if (t > 0 && a.ok && b.ok && b.X < front - 0.5 && b.X + 0.5 > h0 && min(a.X, b.X) < h1 + 0.5) {
                 over_holes(a, b, abs(b.d - a.d) <= u_threshold, c, h0, h1, dir);
             }
@@ -251,20 +255,20 @@ void scan(int src, float du)
             a = b;
             b = n;
             t++;
-            if (t + 1 < width) {
+            if (t + 1 < src_width) {
                 n = land(base, t + 1, k, f, dir);
             }
-            edge_after = t + 1 >= width || !n.ok || abs(n.d - b.d) > u_threshold;
+            edge_after = t + 1 >= src_width || !n.ok || abs(n.d - b.d) > u_threshold;
             reach = b.X + (edge_after ? 0.5 : 0.0);
         }
-        if (t >= width || reach > c) {
-            bool gap = t > 0 && t < width && a.ok && b.ok && abs(b.d - a.d) > u_threshold
+        if (t >= src_width || reach > c) {
+            bool gap = t > 0 && t < src_width && a.ok && b.ok && abs(b.d - a.d) > u_threshold
                 && c >= a.X + 0.5 && c < b.X - 0.5;
             if (gap) {
                 h0 = min(h0, c);
                 h1 = c;
             }
-            emit(x, a, b, t == 0, t >= width, dir);
+            emit(x, a, b, t == 0, t >= src_width, dir);
             x++;
         }
     }
@@ -275,6 +279,7 @@ void main()
     row = int(gl_GlobalInvocationID.x);
     int layer = int(gl_GlobalInvocationID.y);
     width = u_tile.x;
+    src_width = width + 2 * u_guard;
     if (row >= u_tile.y || layer >= u_targets) {
         return;
     }

@@ -59,6 +59,13 @@ _OA = {"cl_renderer": "opengl2", "r_mode": "-1", "r_customwidth": "{W}", "r_cust
 _trace("openarena", ["sh", "-c", 'HOME=$(mktemp -d) exec /usr/games/openarena "$@"', "openarena",
                      *[x for k, v in _OA.items() for x in ("+set", k, v)], "+devmap", "oa_dm1", "+wait", "80", "+quit"],
        56, 60, note="the weapon is drawn inside glDepthRange(0, 0.3); HUD off")
+# Neverball (SDL2, fixed-function GL): a level's floor and walls run off every side of the
+# window, what the guard band is for (scripts/guard-band.py). Its settings in a fresh HOME, no
+# sound; the level loads and the camera flies in (frames 20 on: the floor under the ball).
+_NB_RC = "fullscreen 0\nwidth {W}\nheight {H}\nsound_volume 0\nmusic_volume 0\n"
+_trace("neverball", ["sh", "-c", 'export HOME=$(mktemp -d); mkdir -p "$HOME/.neverball"; printf "' + _NB_RC
+                     + '" > "$HOME/.neverball/neverballrc"; exec /usr/games/neverball "$@"', "neverball",
+                     "-l", "map-easy/coins.sol"], 60, 8, note="level map-easy/coins, as it loads")
 for _h, _f in [("engine", 20), ("moebiusgears", 30), ("topblock", 10), ("pipes", 60)]:
     # xscreensaver 6 draws through EGL (desktop GL API).
     _trace(f"xss-{_h}", [f"{XS}/{_h}", "-geometry", "{W}x{H}"], _f, 4, api="egl")
@@ -251,11 +258,12 @@ def command(name, spec, frame, a, display, work):
     raise RuntimeError(f"unknown kind {spec['kind']}")
 
 
-def run_layer(a, prog, env, mode, convergence, frame, dump):
-    """One run under the layer; returns {'quilt', 'stderr', 'scene_at', 'rendered', ...} or {'error'}."""
+def run_layer(a, prog, env, mode, convergence, frame, dump, extra=()):
+    """One run under the layer (`extra`: more of its options); returns {'quilt', 'stderr',
+    'scene_at', 'rendered', ...} or {'error'}."""
     cmd = [os.path.join(a.layer, "holoinject"), "run", "--preset", "none", "--log", "info", "--output", "quilt",
            "--quilt", a.quilt, "--tile", a.tile, "--mode", mode, "--convergence", convergence,
-           *(["--depthiness", a.depthiness] if a.depthiness else []),
+           *(["--depthiness", a.depthiness] if a.depthiness else []), *extra,
            "--dump", dump, "--dump-frames", str(frame), "--exit-after", str(frame), "--", *prog]
     t0 = time.time()
     p = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, stdin=subprocess.DEVNULL, text=True,

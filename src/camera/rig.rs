@@ -55,8 +55,13 @@ impl ViewRig {
     /// The same shift as a projection matrix (column-major): `P'_i` of DESIGN §3, used by
     /// fixed-function replay and by the sample apps' ground truth.
     pub fn shear(&self, i: u32, p: &[f64; 16]) -> [f64; 16] {
+        self.shear_moved(i, p, 0.0)
+    }
+
+    /// `shear`, the image moved by `dh` more (NDC): as view `i`'s `h + dh`.
+    pub fn shear_moved(&self, i: u32, p: &[f64; 16], dh: f64) -> [f64; 16] {
         let v = self.params(i);
-        let (k, h, c) = (v.k as f64, v.h as f64, v.c as f64);
+        let (k, h, c) = (v.k as f64, v.h as f64 + dh, v.c as f64);
         let mut out = *p;
         for col in 0..4 {
             out[col * 4] += (k + h) * p[col * 4 + 3];

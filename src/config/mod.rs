@@ -22,8 +22,8 @@ use std::sync::OnceLock;
 use view::ComfortChoice;
 
 pub use values::{
-    Boundary, Convergence, DEFAULT_FRAME_BUDGET_MS, FboScale, FboViews, FrameSet, Mode, Output, Present, Preview,
-    RowsOn, SynthWarp, WeaveFilter,
+    Boundary, Convergence, DEFAULT_FRAME_BUDGET_MS, FboScale, FboViews, FrameSet, GuardBand, Mode, Output, Present,
+    Preview, RowsOn, SynthWarp, WeaveFilter,
 };
 pub use view::ViewSettings;
 

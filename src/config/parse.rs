@@ -4,7 +4,9 @@
 
 use super::{Convergence, FrameSet, Mode};
 
-pub use super::values::{boundary, fbo_scale, fbo_views, output, present, preview, rows_on, synth_warp, weave_filter};
+pub use super::values::{
+    boundary, fbo_scale, fbo_views, guard_band, output, present, preview, rows_on, synth_warp, weave_filter,
+};
 // The unit tests name these through `super::`, as they did when their parsers lived here.
 #[cfg(test)]
 use super::{FboScale, SynthWarp};

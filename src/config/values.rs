@@ -213,6 +213,31 @@ pub enum RowsOn {
     Cpu,
 }
 
+/// The synthesis sources' guard band (`--guard-band`): columns rendered beyond each side of
+/// a rendered view's tile, which the row warp moves into view where a synthesised view sees
+/// past the rendered view's edge.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GuardBand {
+    Off,
+    /// As wide as the largest disparity of the background (parallax 0 to 1) between a
+    /// synthesised view and its source, up to a sixteenth of the tile width.
+    Auto,
+    /// This many columns each side.
+    Columns(u32),
+}
+
+/// `--guard-band`.
+pub fn guard_band(v: &str) -> Result<GuardBand, String> {
+    match v.trim() {
+        "off" | "0" => Ok(GuardBand::Off),
+        "auto" => Ok(GuardBand::Auto),
+        n => match n.parse::<u32>() {
+            Ok(c) if c <= 4096 => Ok(GuardBand::Columns(c)),
+            _ => Err(format!("`{v}`: expected auto, off or a number of columns (0 to 4096)")),
+        },
+    }
+}
+
 /// `--rows-on`.
 pub fn rows_on(v: &str) -> Result<RowsOn, String> {
     match v.trim() {

@@ -8,8 +8,8 @@ use super::comfort;
 use super::device;
 use super::parse;
 use super::values::{
-    Convergence, DEFAULT_FRAME_BUDGET_MS, FboScale, FboViews, FrameSet, Mode, Output, Present, Preview, RowsOn,
-    SynthWarp, WeaveFilter,
+    Convergence, DEFAULT_FRAME_BUDGET_MS, FboScale, FboViews, FrameSet, GuardBand, Mode, Output, Present, Preview,
+    RowsOn, SynthWarp, WeaveFilter,
 };
 
 /// The multiview rig as configured (what is not given is decided per context from the
@@ -48,6 +48,8 @@ pub struct ViewSettings {
     pub synth_warp: SynthWarp,
     /// `--rows-on`: where the row warp's scan runs.
     pub rows_on: RowsOn,
+    /// `--guard-band`: columns rendered beyond the rendered views' sides for the warp.
+    pub guard_band: GuardBand,
     /// Frames on which the exact quilt is rendered too and the synthesised views compared.
     pub measure_error: Option<FrameSet>,
     /// `--mode auto`: the frame time to meet (ms).
@@ -117,6 +119,7 @@ impl ViewSettings {
             "synth-threshold" => self.synth_threshold = parse::synth_threshold(value).unwrap_or(1.0),
             "synth-warp" => self.synth_warp = parse::synth_warp(value).unwrap_or(SynthWarp::Rows),
             "rows-on" => self.rows_on = parse::rows_on(value).unwrap_or(RowsOn::Auto),
+            "guard-band" => self.guard_band = parse::guard_band(value).unwrap_or(GuardBand::Auto),
             "measure-error" => self.measure_error = parse::frames(value).ok(),
             "edge-fade" => self.comfort.edge_fade = comfort::edge_fade(value).unwrap_or(None),
             "dof" => self.comfort.dof = comfort::dof(value).unwrap_or(None),
@@ -158,6 +161,7 @@ impl Default for ViewSettings {
             synth_threshold: 1.0,
             synth_warp: SynthWarp::Rows,
             rows_on: RowsOn::Auto,
+            guard_band: GuardBand::Auto,
             measure_error: None,
             frame_budget_ms: DEFAULT_FRAME_BUDGET_MS,
             comfort: comfort::ComfortSettings::default(),

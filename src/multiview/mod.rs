@@ -118,6 +118,10 @@ pub struct Multiview {
     pub record_supported: bool,
     /// The program fixed-function draws are recorded with (`replay::record_fixed`).
     pub record_fixed: replay::record_fixed::FixedProgram,
+    /// This frame's guard band, columns each side of the rendered views (`fast::guard`), and
+    /// what its strips cost.
+    pub guard: u32,
+    pub guard_meter: fast::guard::Meter,
 }
 
 impl Multiview {
@@ -163,6 +167,8 @@ impl Multiview {
             record: Default::default(),
             record_supported: !info.es && info.at_least(4, 5),
             record_fixed: Default::default(),
+            guard: 0,
+            guard_meter: Default::default(),
         }
     }
 

@@ -106,6 +106,8 @@ pub fn weave<'t>(
     unsafe {
         gl.Uniform1i(pass::uniform(gl, program, "u_flipped"), input.layout.flipped as i32);
         gl.Uniform2i(pass::uniform(gl, program, "u_swap"), a, b);
+        let l = input.layout;
+        gl.Uniform2i(pass::uniform(gl, program, "u_tile"), l.tile_w as i32, l.tile_h as i32);
     }
     passes.draw(gl);
     Ok(t)

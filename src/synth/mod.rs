@@ -39,6 +39,9 @@ use crate::gl::GlInfo;
 use crate::gl::*;
 use crate::state::orphans::LayerObjects;
 
+/// A rectangle of a source's framebuffer and where it goes in our arrays (`Source::parts`).
+pub type Part = ([i32; 4], [i32; 4]);
+
 /// A rendered view to warp from.
 #[derive(Clone, Copy, Debug)]
 pub struct Source {
@@ -51,6 +54,24 @@ pub struct Source {
     /// Framebuffer (its colour attachment 0) and rectangle holding its disparity record
     /// (`shader::record`), when it was recorded.
     pub record: Option<(u32, [i32; 4])>,
+    /// Where its guard band is (`Job::guard` wide): the columns just beyond its tile's left
+    /// and right sides, rendered beside the tile in the same framebuffers (colour, depth and
+    /// record alike).
+    pub guard: Option<[[i32; 4]; 2]>,
+}
+
+impl Source {
+    /// Each part of the source (`rect`, its colour's, depth's or record's rectangle, and its
+    /// guard band) and where it goes in our arrays of `tile` between bands `guard` columns
+    /// wide (the rectangle is scaled to the tile; the bands are at the tile's scale).
+    pub fn parts(&self, rect: [i32; 4], (w, h): (i32, i32), guard: i32) -> Vec<Part> {
+        let mut parts = vec![(rect, [guard, 0, w, h])];
+        if let (Some([left, right]), true) = (self.guard, guard > 0) {
+            parts.push((left, [0, 0, guard, h]));
+            parts.push((right, [guard + w, 0, guard, h]));
+        }
+        parts
+    }
 }
 
 /// A view to synthesise.
@@ -68,6 +89,9 @@ pub struct Job<'a> {
     pub sources: &'a [Source],
     pub targets: &'a [Target],
     pub tile: (i32, i32),
+    /// The sources' guard band (`Source::guard`), columns each side; 0: none. The row warp
+    /// only.
+    pub guard: i32,
     /// The sources' depth format (their copies must match it).
     pub depth_format: GLenum,
     pub model: ParallaxModel,
@@ -97,6 +121,13 @@ pub struct Job<'a> {
     /// colour straight into the destination's texture, and no pass puts colour and depth
     /// into their tiles (`DirectColor`).
     pub direct: Option<DirectColor>,
+}
+
+impl Job<'_> {
+    /// The size of a source in our arrays: the tile and its guard band on both sides.
+    pub fn source_size(&self) -> (i32, i32) {
+        (self.tile.0 + 2 * self.guard, self.tile.1)
+    }
 }
 
 /// Where a row warp run by the CPU uploads its colour: `texture`, an `RGBA8` texture (or a
@@ -144,8 +175,9 @@ pub struct Synthesizer {
     fbo: u32,
     vao: u32,
     pixel: pixel::PixelSynth,
-    /// Sources and depth format of the depth `capture_depth` copied for the next warp.
-    captured: Option<(usize, GLenum)>,
+    /// Sources, depth format and guard band of the depth `capture_depth` copied for the
+    /// next warp.
+    captured: Option<(usize, GLenum, i32)>,
     /// Bit j: source j's disparity record is in our array (with the depth it was taken with).
     recorded: u64,
     /// The context renders on the CPU (`gl::software_renderer`), asked once.
@@ -207,13 +239,13 @@ impl Synthesizer {
         let _guard = pass::guard(gl, info);
         crate::gl::guard::neutral_pass_state(gl, info);
         let captured = self.captured.take();
-        let kept = self.prepare(gl, job.tile, job.sources.len(), job.depth_format, grid);
+        let kept = self.prepare(gl, job.source_size(), job.sources.len(), job.depth_format, grid);
         let res = self.resources.as_ref().ok_or("no resources")?;
-        let depth_ready = kept && captured == Some((job.sources.len(), job.depth_format));
+        let depth_ready = kept && captured == Some((job.sources.len(), job.depth_format, job.guard));
         // The record is copied again even when the depth was captured early: what is drawn
         // into the scene's framebuffer after that moment (wined3d draws a game's HUD there)
         // records its own disparity, and the warp orders and moves those pixels by it.
-        self.recorded = pass::copy_records(gl, self.fbo, res, job.sources.iter().map(|s| s.record));
+        self.recorded = pass::copy_records(gl, self.fbo, res, job);
         let pass = pass::Pass {
             gl,
             info,
@@ -243,8 +275,8 @@ impl Synthesizer {
         };
         let out = refit(
             &mut self.row_targets,
-            |t| t.fits(job.tile, sources, count),
-            || rows::RowTargets::create(gl, job.tile, sources, count),
+            |t| t.fits((job.tile, job.guard), sources, count),
+            || rows::RowTargets::create(gl, (job.tile, job.guard), sources, count),
             |old| old.delete(gl),
         )?;
         let on_cpu = job
@@ -280,21 +312,23 @@ impl Synthesizer {
     /// a program that draws over its scene depth before the warp point (a full-screen pass
     /// into the scene's framebuffer, as glmark2's `terrain` does) would otherwise hand the
     /// warp that pass's depth. The next warp of as many sources uses this copy.
+    /// `depths`: each source's depth framebuffer and its parts (`Source::parts`); `guard`
+    /// the band's width.
     pub fn capture_depth(
         &mut self,
         gl: &Gl,
         info: GlInfo,
-        depths: &[(u32, [i32; 4])],
-        (tile, depth_format, grid): ((i32, i32), GLenum, bool),
+        depths: &[(u32, Vec<Part>)],
+        (tile, guard, depth_format, grid): ((i32, i32), i32, GLenum, bool),
     ) {
         let _guard = pass::guard(gl, info);
         crate::gl::guard::neutral_pass_state(gl, info);
-        self.prepare(gl, tile, depths.len(), depth_format, grid);
+        self.prepare(gl, (tile.0 + 2 * guard, tile.1), depths.len(), depth_format, grid);
         let Some(res) = self.resources.as_ref() else { return };
-        for (j, &d) in depths.iter().enumerate() {
-            pass::copy_depth(gl, self.fbo, res, j, d, depth_format);
+        for (j, (fbo, parts)) in depths.iter().enumerate() {
+            pass::copy_depth(gl, self.fbo, res, j, (*fbo, parts), depth_format);
         }
-        self.captured = Some((depths.len(), depth_format));
+        self.captured = Some((depths.len(), depth_format, guard));
     }
 
     /// A capture not used by the frame it was taken in is not used by the next.

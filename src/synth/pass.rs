@@ -55,15 +55,17 @@ pub struct Pass<'a> {
     pub recorded: u64,
 }
 
-/// Each source's disparity record (read framebuffer, rectangle) into its layer of our
-/// record array, scaled to the tile like its depth; the bits of those copied.
-pub fn copy_records(gl: &Gl, fbo: u32, res: &Resources, records: impl Iterator<Item = Option<(u32, [i32; 4])>>) -> u64 {
+/// Each source's disparity record (read framebuffer, rectangle, and its guard band) into its
+/// layer of our record array, scaled to the tile like its depth; the bits of those copied.
+pub fn copy_records(gl: &Gl, fbo: u32, res: &Resources, job: &Job) -> u64 {
     let mut bits = 0;
-    for (j, rec) in records.enumerate().take(64) {
-        let Some(src) = rec else { continue };
+    for (j, s) in job.sources.iter().enumerate().take(64) {
+        let Some(src) = s.record else { continue };
         detach_all(gl, fbo);
         attach(gl, fbo, COLOR_ATTACHMENT0, res.record, j);
-        blit(gl, src.0, src.1, res.tile, COLOR_BUFFER_BIT);
+        for (from, to) in s.parts(src.1, job.tile, job.guard) {
+            blit(gl, src.0, from, to, COLOR_BUFFER_BIT);
+        }
         bits |= 1 << j;
     }
     detach_all(gl, fbo);
@@ -86,18 +88,30 @@ fn detach_all(gl: &Gl, fbo: u32) {
     }
 }
 
-/// `rect` of framebuffer `read` onto the bound draw framebuffer's `(w, h)`.
-fn blit(gl: &Gl, read: u32, r: [i32; 4], (w, h): (i32, i32), mask: u32) {
+/// `r` of framebuffer `read` onto `d` of the bound draw framebuffer.
+fn blit(gl: &Gl, read: u32, r: [i32; 4], d: [i32; 4], mask: u32) {
     // SAFETY: a blit between a framebuffer of the layer's and ours.
     unsafe {
         gl.BindFramebuffer(READ_FRAMEBUFFER, read);
-        gl.BlitFramebuffer(r[0], r[1], r[0] + r[2], r[1] + r[3], 0, 0, w, h, mask, NEAREST);
+        gl.BlitFramebuffer(
+            r[0],
+            r[1],
+            r[0] + r[2],
+            r[1] + r[3],
+            d[0],
+            d[1],
+            d[0] + d[2],
+            d[1] + d[3],
+            mask,
+            NEAREST,
+        );
     }
 }
 
-/// The depth of `src` (framebuffer, rectangle) into layer `j` of our depth array through our
-/// framebuffer `fbo` (depth blits need the source's own format, which our array has).
-pub fn copy_depth(gl: &Gl, fbo: u32, res: &Resources, j: usize, src: (u32, [i32; 4]), format: GLenum) {
+/// The depth of `src` (framebuffer, and its parts: each rectangle and where it goes,
+/// `Source::parts`) into layer `j` of our depth array through our framebuffer `fbo` (depth
+/// blits need the source's own format, which our array has).
+pub fn copy_depth(gl: &Gl, fbo: u32, res: &Resources, j: usize, src: (u32, &[super::Part]), format: GLenum) {
     let stencil = matches!(format, DEPTH24_STENCIL8 | DEPTH32F_STENCIL8);
     let point = if stencil {
         DEPTH_STENCIL_ATTACHMENT
@@ -108,7 +122,9 @@ pub fn copy_depth(gl: &Gl, fbo: u32, res: &Resources, j: usize, src: (u32, [i32;
     attach(gl, fbo, point, res.depth, j);
     // SAFETY: no colour buffer to draw into while only depth is attached.
     unsafe { gl.DrawBuffer(NONE) };
-    blit(gl, src.0, src.1, res.tile, DEPTH_BUFFER_BIT);
+    for &(from, to) in src.1 {
+        blit(gl, src.0, from, to, DEPTH_BUFFER_BIT);
+    }
     // SAFETY: our framebuffer's draw buffer back to its colour attachment.
     unsafe { gl.DrawBuffer(COLOR_ATTACHMENT0) };
     detach_all(gl, fbo);
@@ -124,13 +140,15 @@ impl Pass<'_> {
     /// The source's colour (and, unless `depth_ready`, its depth) into layer `j` of our
     /// arrays.
     pub fn copy_source(&self, j: usize, s: &Source, job: &Job) -> Result<(), String> {
-        let (tw, th) = job.tile;
         detach_all(self.gl, self.fbo);
         self.attach(COLOR_ATTACHMENT0, self.res.color, j);
-        blit(self.gl, s.color.0, s.color.1, (tw, th), COLOR_BUFFER_BIT);
+        for (from, to) in s.parts(s.color.1, job.tile, job.guard) {
+            blit(self.gl, s.color.0, from, to, COLOR_BUFFER_BIT);
+        }
         detach_all(self.gl, self.fbo);
         if !self.depth_ready {
-            copy_depth(self.gl, self.fbo, self.res, j, s.depth, job.depth_format);
+            let parts = s.parts(s.depth.1, job.tile, job.guard);
+            copy_depth(self.gl, self.fbo, self.res, j, (s.depth.0, &parts), job.depth_format);
         }
         Ok(())
     }

@@ -51,6 +51,8 @@ impl RowPrograms {
 #[derive(Debug, PartialEq)]
 pub struct RowTargets {
     tile: (i32, i32),
+    /// The sources' guard band, columns each side (`Job::guard`).
+    guard: i32,
     sources: usize,
     count: usize,
     packed: u32,
@@ -86,6 +88,7 @@ impl RowTargets {
     fn storage(&self) -> rows_host::Storage {
         rows_host::Storage {
             tile: self.tile,
+            guard: self.guard,
             sources: self.sources,
             count: self.count,
             packed: self.packed,
@@ -95,13 +98,16 @@ impl RowTargets {
         }
     }
 
-    pub fn create(gl: &Gl, tile: (i32, i32), sources: usize, count: usize) -> RowTargets {
+    /// `guard`: the sources' band, columns each side of the tile.
+    pub fn create(gl: &Gl, (tile, guard): ((i32, i32), i32), sources: usize, count: usize) -> RowTargets {
         let pixels = tile.0.max(1) as usize * tile.1.max(1) as usize;
+        let source_pixels = (tile.0.max(1) + 2 * guard.max(0)) as usize * tile.1.max(1) as usize;
         RowTargets {
             tile,
+            guard,
             sources,
             count,
-            packed: storage(gl, pixels * sources * 12),
+            packed: storage(gl, source_pixels * sources * 12),
             warped: storage(gl, pixels * count * 8),
             params: storage(gl, count * std::mem::size_of::<Params>()),
             holes: storage(gl, 4),
@@ -118,8 +124,8 @@ impl RowTargets {
         [self.warped_view]
     }
 
-    pub fn fits(&self, tile: (i32, i32), sources: usize, count: usize) -> bool {
-        self.tile == tile && self.sources == sources && self.count == count
+    pub fn fits(&self, (tile, guard): ((i32, i32), i32), sources: usize, count: usize) -> bool {
+        self.tile == tile && self.guard == guard && self.sources == sources && self.count == count
     }
 
     pub fn buffers(&self) -> [u32; 4] {
@@ -269,6 +275,7 @@ fn warp_rows(pass: &Pass, programs: &RowPrograms, out: &RowTargets, job: &Job) {
         gl.BindBufferBase(SHADER_STORAGE_BUFFER, 3, out.holes);
         gl.UseProgram(p);
         gl.Uniform2i(loc(gl, p, "u_tile"), job.tile.0, job.tile.1);
+        gl.Uniform1i(loc(gl, p, "u_guard"), job.guard);
         gl.Uniform1i(loc(gl, p, "u_targets"), params.len() as i32);
         gl.Uniform1i(loc(gl, p, "u_count_holes"), job.count_holes as i32);
         gl.Uniform1i(loc(gl, p, "u_second_fills_holes"), job.second_fills_holes as i32);

@@ -39,8 +39,8 @@ impl Output<'_> {
     }
 }
 
-/// Every target's rows from `sources` (layer after layer of `tile` pixels, rows bottom-up)
-/// into `out`, on up to `threads` threads taking the next target as they finish one; the
+/// Every target's rows from `sources` (layer after layer of `tile` pixels widened by the
+/// guard band on both sides, `s.guard`, rows bottom-up) into `out`, on up to `threads` threads taking the next target as they finish one; the
 /// pixels left filled over holes when counted. `None` when the storage does not hold what
 /// the targets name, or a thread failed.
 pub fn warp<'o>(
@@ -53,7 +53,8 @@ pub fn warp<'o>(
 ) -> Option<u64> {
     let (width, height) = tile;
     let layer = width * height;
-    let layers = sources.len() / layer.max(1);
+    let src_width = width + 2 * s.guard;
+    let layers = sources.len() / (src_width * height).max(1);
     if width == 0
         || height == 0
         || out.len() < layer * targets.len()
@@ -88,7 +89,7 @@ pub fn warp<'o>(
                 first_scan: true,
                 second: false,
             };
-            holes += scanner.run(t, lands, |j| &sources[(j * height + y) * width..][..width]);
+            holes += scanner.run(t, lands, |j| &sources[(j * height + y) * src_width..][..src_width]);
             dst.put_row(y, height, width, row_out);
         }
         holes

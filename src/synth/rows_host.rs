@@ -21,6 +21,8 @@ use crate::gl::*;
 /// The row warp's storage (`rows::RowTargets`), as the scan reads and writes it.
 pub struct Storage {
     pub tile: (i32, i32),
+    /// Source columns beyond each side of a tile (the guard band) in the packed sources.
+    pub guard: i32,
     pub sources: usize,
     pub count: usize,
     /// The sources packed per pixel (`SrcPixel`), and the warped targets (`OutPixel`).
@@ -52,13 +54,13 @@ pub fn warp(
     let gl = pass.gl;
     let tile = (job.tile.0.max(0) as usize, job.tile.1.max(0) as usize);
     let pixels = tile.0 * tile.1;
-    if out.tile != job.tile || out.count < job.targets.len() {
+    if out.tile != job.tile || out.guard != job.guard || out.count < job.targets.len() {
         return Err("its storage does not fit the job".into());
     }
     let targets = params(job);
     let settings = settings(job, out.fill_bias);
     let threads = threads();
-    let n_src = pixels * out.sources;
+    let n_src = (tile.0 + 2 * job.guard.max(0) as usize) * tile.1 * out.sources;
     let direct = job.direct.filter(|d| d.height >= job.tile.1);
     if direct.is_some() {
         colour.resize(pixels * targets.len(), 0);
@@ -141,6 +143,7 @@ fn settings(job: &Job, bias: f32) -> rows_cpu::Settings {
         far_bias: if job.model.reversed { -bias } else { bias },
         count_holes: job.count_holes,
         second_fills_holes: job.second_fills_holes,
+        guard: job.guard.max(0) as usize,
     }
 }
 

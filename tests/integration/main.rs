@@ -19,6 +19,7 @@ mod device_window;
 mod fbo_scale;
 mod forced_failures;
 mod gpu_counts;
+mod guard_band;
 mod launcher;
 mod layer_library;
 mod live_controls;

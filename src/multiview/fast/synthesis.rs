@@ -76,6 +76,7 @@ pub fn end_frame(gl: &Gl, mv: &mut Multiview, frame: u64) {
         .is_some_and(|f| f.contains(frame + 1));
     super::auto::end_frame(mv, frame);
     mv.plan.new_frame(measured && mv.measure.is_some());
+    super::guard::end_frame(mv, frame);
 }
 
 /// This frame's warp, still to come, writes every pixel's colour and depth of every tile it
@@ -177,11 +178,23 @@ pub fn capture_depth(gl: &Gl, mv: &mut Multiview) {
         return;
     };
     let (depth_fbo, depth_rect) = depth_source(mv, quilt);
-    let depths: Vec<(u32, [i32; 4])> = mv
+    let guard = guard_now(mv);
+    let tile = (layout.tile_w as i32, layout.tile_h as i32);
+    let depths: Vec<(u32, Vec<crate::synth::Part>)> = mv
         .plan
         .rendered
         .iter()
-        .map(|&r| (depth_fbo(r), depth_rect(r)))
+        .enumerate()
+        .map(|(slot, &r)| {
+            let band = Source {
+                u: 0.0,
+                color: (quilt, [0; 4]),
+                depth: (depth_fbo(r), depth_rect(r)),
+                record: None,
+                guard: super::guard::source_strips(layout, guard, slot),
+            };
+            (depth_fbo(r), band.parts(depth_rect(r), tile, guard as i32))
+        })
         .collect();
     drop((depth_fbo, depth_rect));
     let source = depths.first().map_or(quilt, |d| d.0);
@@ -201,10 +214,9 @@ pub fn capture_depth(gl: &Gl, mv: &mut Multiview) {
         return;
     }
     let grid = mv.settings.synth_warp == crate::config::SynthWarp::Grid && !mv.plan.per_pixel;
-    let tile = (layout.tile_w as i32, layout.tile_h as i32);
     let info = mv.info;
     let mut synth = std::mem::take(&mut mv.synth);
-    synth.capture_depth(gl, info, &depths, (tile, format.format, grid));
+    synth.capture_depth(gl, info, &depths, (tile, guard as i32, format.format, grid));
     mv.synth = synth;
 }
 
@@ -228,15 +240,18 @@ fn try_warp(gl: &Gl, mv: &mut Multiview, kept: &[u32], at_swap: bool) -> Result<
     if format.multisampled {
         return Err("the scene's depth is multisampled".into());
     }
+    let guard = guard_now(mv);
     let mut sources: Vec<Source> = mv
         .plan
         .rendered
         .iter()
-        .map(|&r| Source {
+        .enumerate()
+        .map(|(slot, &r)| Source {
             u: rig.u(r),
             color: (quilt, layout.tile_rect(r)),
             depth: (depth_fbo(r), depth_rect(r)),
             record: None,
+            guard: super::guard::source_strips(layout, guard, slot),
         })
         .collect();
     drop((depth_fbo, depth_rect));
@@ -261,6 +276,7 @@ fn try_warp(gl: &Gl, mv: &mut Multiview, kept: &[u32], at_swap: bool) -> Result<
         sources: &sources,
         targets: &targets,
         tile: (layout.tile_w as i32, layout.tile_h as i32),
+        guard: guard as i32,
         depth_format: format.format,
         model: model.unwrap_or(ParallaxModel::FLAT),
         depthiness: if model.is_some() { rig.depthiness } else { 0.0 },
@@ -312,6 +328,17 @@ fn try_warp(gl: &Gl, mv: &mut Multiview, kept: &[u32], at_swap: bool) -> Result<
     let result = synth.warp(gl, info, &job);
     mv.synth = synth;
     result
+}
+
+/// The guard band the warp reads this frame: the one the frame drew (`fast::guard`), under
+/// the row warp with the depth in the quilt (a scene shadow has no band).
+fn guard_now(mv: &Multiview) -> u32 {
+    let rows = mv.settings.synth_warp == crate::config::SynthWarp::Rows && !mv.plan.per_pixel;
+    if rows && mv.scene_shadow().is_none() {
+        mv.guard
+    } else {
+        0
+    }
 }
 
 /// Where the row warp, when the CPU runs it, may upload the synthesised tiles' colour itself,

@@ -22,6 +22,9 @@ pub struct QuiltLayout {
     pub window_h: u32,
     /// The quilt's framebuffer stores rows top-down, as the window is stored.
     pub flipped: bool,
+    /// Columns per side of the guard band's room (`guard`): beyond the tiles, to the right,
+    /// a pair of strips per quilt row. 0: none.
+    pub guard: u32,
 }
 
 /// Largest quilt edge we allocate when the tile size is derived from the window.
@@ -58,7 +61,36 @@ impl QuiltLayout {
             window_w: window.0.max(1),
             window_h: window.1.max(1),
             flipped: false,
+            guard: 0,
         }
+    }
+
+    /// This layout with room for guard bands up to `columns` wide (`guard`), as much of it
+    /// as keeps the quilt's storage within `MAX_EXPLICIT_QUILT_EDGE`.
+    pub fn with_guard(self, columns: u32) -> QuiltLayout {
+        let room = MAX_EXPLICIT_QUILT_EDGE.saturating_sub(self.width()) / 2;
+        QuiltLayout {
+            guard: columns.min(room).min(self.tile_w),
+            ..self
+        }
+    }
+
+    /// The width of the quilt's storage: the tiles and the guard band's room.
+    pub fn storage_width(&self) -> u32 {
+        self.width() + 2 * self.guard
+    }
+
+    /// How many rendered views' guard bands the room holds (a pair of strips per row).
+    pub fn guard_slots(&self) -> u32 {
+        if self.guard == 0 { 0 } else { self.rows }
+    }
+
+    /// The two strips, `width` columns each (at most `guard`), of guard slot `slot`: beside
+    /// the tiles, where the columns just left and right of a rendered view's tile are drawn.
+    pub fn guard_strips(&self, slot: u32, width: u32) -> [[i32; 4]; 2] {
+        let (x, y) = (self.width() as i32, (slot * self.tile_h) as i32);
+        let (g, h) = (width.min(self.guard) as i32, self.tile_h as i32);
+        [[x, y, g, h], [x + self.guard as i32, y, g, h]]
     }
 
     /// This layout in a framebuffer stored top-down (`flipped`) or bottom-up.

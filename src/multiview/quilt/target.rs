@@ -124,7 +124,7 @@ impl QuiltTarget {
     /// logged). A multisampled quilt past `MAX_QUILT_SAMPLES` is single-sampled.
     pub fn create(gl: &Gl, info: GlInfo, layout: QuiltLayout) -> Result<QuiltTarget, String> {
         let window = WindowFormat::query(gl, info);
-        let pixels = layout.width() as u64 * layout.height() as u64;
+        let pixels = layout.storage_width() as u64 * layout.height() as u64;
         let samples = if window.samples as u64 * pixels > MAX_QUILT_SAMPLES {
             crate::log::warn(format_args!(
                 "a {}x{} quilt with {} samples per pixel would take more than {} MB: single-sampled \
@@ -173,7 +173,7 @@ impl QuiltTarget {
     ) -> Result<QuiltTarget, String> {
         let _guard = StateGuard::new(gl, info).framebuffers().for_pass();
         let layout = layout.stored(window.flip_y);
-        let size = (layout.width() as i32, layout.height() as i32);
+        let size = (layout.storage_width() as i32, layout.height() as i32);
         let color = texture(gl, color_format, size);
         let sampled = linear_view(gl, info, color, color_format);
         let depth = renderbuffer(gl, samples, depth_format, size);

@@ -16,6 +16,7 @@ use super::screen_space;
 use super::shift::{self, Shift};
 use crate::gl::*;
 use crate::multiview::Multiview;
+use crate::multiview::fast::guard;
 use crate::multiview::quilt::layout::{QuiltLayout, intersect};
 use crate::multiview::quilt::record::DisparityRecord;
 use crate::multiview::shadows::layers;
@@ -125,18 +126,19 @@ fn replay(
     let identity = matches!(shift, Shift::Uniform { camera: false, .. });
     screen_space::camera_uniforms(app, mv, identity, &mut scratch.camera_uniforms);
     let (subs, camera_uniforms) = (&scratch.subs, &scratch.camera_uniforms);
-    let set_view = |mv: &Multiview, i: u32| {
+    // `dh`: the view's image moved by that much more (NDC), for a guard band's strip.
+    let set_view = |mv: &Multiview, i: u32, dh: f32| {
         // After the warp point a synthesised view samples its nearest rendered view's layer.
         let layer = if mv.plan.renders(i) { i } else { mv.plan.nearest(i) };
         substitute::bind_layers(gl, app, subs, Some(layer as usize));
-        screen_space::set(gl, app, mv, camera_uniforms, Some(i));
+        screen_space::set_moved(gl, app, mv, camera_uniforms, Some((i, dh)));
         match shift {
             Shift::Uniform {
                 loc, mode, infinity, ..
-            } => set_view_uniform(gl, app.program, mv, loc, i, mode, infinity),
+            } => set_view_uniform(gl, app.program, mv, loc, (i, dh), mode, infinity),
             Shift::Projection { p, infinity } => {
                 let sheared = if infinity { &mv.sheared_far } else { &mv.sheared };
-                load_projection(gl, &sheared.get(&mv.camera.rig, &p, i), app_matrix_mode)
+                load_projection(gl, &sheared.moved(&mv.camera.rig, &p, i, dh).0, app_matrix_mode)
             }
             Shift::None => {}
         }
@@ -153,9 +155,12 @@ fn replay(
                 None
             }
         };
-        let set_tile = |mv: &Multiview, i| {
-            set_view(mv, i);
-            set_fragcoord(gl, app.program, fragcoord, Some((layout, i)));
+        // `strip`: a guard band's strip of view i (its image shift and origin) instead of
+        // its tile.
+        let set_tile = |mv: &Multiview, i, strip: Option<&guard::StripDraw>| {
+            set_view(mv, i, strip.map_or(0.0, |s| s.dh));
+            let origin = strip.map_or_else(|| layout.origin(i), |s| s.origin);
+            set_fragcoord(gl, app.program, fragcoord, Some((layout, origin)));
             if let Some((writes, views)) = recorded {
                 super::record::tile(gl, views, writes, i);
             }
@@ -169,7 +174,15 @@ fn replay(
         };
         // A view that records alone is drawn last: its record's mask is set once.
         let last = recorded.and_then(|(_, v)| v.only());
-        draw_tiles(gl, app, mv, (layout, last), scissored, set_tile, &draw_and_record);
+        draw_tiles(
+            gl,
+            app,
+            mv,
+            (layout, last, shift.camera()),
+            scissored,
+            set_tile,
+            &draw_and_record,
+        );
         if let Some((writes, _)) = recorded {
             super::record::done(gl, mv, writes);
         }
@@ -190,7 +203,7 @@ fn replay(
             if let Some((img, _)) = recording {
                 DisparityRecord::attach_bound(gl, img, i as i32);
             }
-            set_view(mv, i as u32);
+            set_view(mv, i as u32, 0.0);
             f(i as u32);
             if let Some(fx) = fixed.filter(|_| recording.is_some()) {
                 fx.redraw(gl, || f(i as u32));
@@ -278,8 +291,18 @@ fn current_info(app: &AppState) -> Option<&ProgramInfo> {
         .flatten()
 }
 
-fn set_view_uniform(gl: &Gl, program: u32, mv: &Multiview, loc: i32, i: u32, mode: ViewMode, infinity: bool) {
+/// View `i`'s shift, its image moved by `dh` more (NDC: a guard band's strip, else 0).
+fn set_view_uniform(
+    gl: &Gl,
+    program: u32,
+    mv: &Multiview,
+    loc: i32,
+    (i, dh): (u32, f32),
+    mode: ViewMode,
+    infinity: bool,
+) {
     let mut v = mv.camera.rig.params(i);
+    v.h += dh;
     if infinity {
         // No convergence term: `x += k w` (view_shift.glsl reads c == 0 as parallax 1).
         v.c = 0.0;
@@ -334,7 +357,7 @@ fn centre_uniform(gl: &Gl, app: &AppState, mv: &Multiview) {
             app.program,
             mv,
             info.view_loc,
-            mv.camera.rig.centre(),
+            (mv.camera.rig.centre(), 0.0),
             ViewMode::Unknown,
             false,
         );
@@ -358,14 +381,14 @@ fn captures_once(gl: &Gl, app: &mut AppState) -> bool {
     app.transform_feedback || app.selecting || app.enabled(gl, RASTERIZER_DISCARD)
 }
 
-/// `holoinject_fragcoord` of the current program: view i's tile origin and the window/tile
-/// scale, or (0, 0, 1, 1) outside tiles.
-fn set_fragcoord(gl: &Gl, program: u32, loc: i32, tile: Option<(QuiltLayout, u32)>) {
+/// `holoinject_fragcoord` of the current program: where window pixel (0, 0) of the view is
+/// (its tile's origin, or a guard strip's) and the window/tile scale, or (0, 0, 1, 1)
+/// outside tiles.
+fn set_fragcoord(gl: &Gl, program: u32, loc: i32, tile: Option<(QuiltLayout, (i32, i32))>) {
     if loc < 0 {
         return;
     }
-    let v = tile.map_or([0.0, 0.0, 1.0, 1.0], |(l, i)| {
-        let (ox, oy) = l.origin(i);
+    let v = tile.map_or([0.0, 0.0, 1.0, 1.0], |(l, (ox, oy))| {
         [
             ox as f32,
             oy as f32,
@@ -377,14 +400,16 @@ fn set_fragcoord(gl: &Gl, program: u32, loc: i32, tile: Option<(QuiltLayout, u32
     unsafe { gl.ProgramUniform4f(program, loc, v[0], v[1], v[2], v[3]) };
 }
 
-/// The tile loop: viewport and scissor mapped into each view's tile.
+/// The tile loop: viewport and scissor mapped into each view's tile; then, while the scene
+/// is drawn, the guard band's strips (`fast::guard`), `shifted` when the draw is seen
+/// through the camera.
 fn draw_tiles(
     gl: &Gl,
     app: &AppState,
     mv: &Multiview,
-    (layout, last): (QuiltLayout, Option<u32>),
+    (layout, last, shifted): (QuiltLayout, Option<u32>, bool),
     scissored: bool,
-    set_view: impl Fn(&Multiview, u32),
+    set_view: impl Fn(&Multiview, u32, Option<&guard::StripDraw>),
     f: &impl Fn(u32),
 ) {
     // SAFETY: viewport and scissor changes below are restored after the loop.
@@ -403,8 +428,21 @@ fn draw_tiles(
             gl.Viewport(vp[0], vp[1], vp[2], vp[3]);
             gl.Scissor(sc[0], sc[1], sc[2], sc[3]);
         }
-        set_view(mv, i);
+        set_view(mv, i, None);
         f(i);
+    }
+    if mv.guard > 0 && mv.plan.synthesise && !mv.plan.warped {
+        let rects = (app.viewport, scissored.then_some(app.scissor));
+        guard::strip_draws(mv, layout, mv.guard, rects, shifted, |strip| {
+            let (vp, sc) = (strip.viewport, strip.scissor);
+            // SAFETY: as above.
+            unsafe {
+                gl.Viewport(vp[0], vp[1], vp[2], vp[3]);
+                gl.Scissor(sc[0], sc[1], sc[2], sc[3]);
+            }
+            set_view(mv, strip.view, Some(&strip));
+            mv.guard_meter.time(|| f(strip.view));
+        });
     }
     let (v, s) = (app.viewport, app.scissor);
     // SAFETY: the app's viewport, scissor and scissor test back.

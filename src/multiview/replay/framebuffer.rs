@@ -11,6 +11,8 @@ use crate::state::AppState;
 /// the app has framebuffer 0 bound.
 pub fn ensure_target(gl: &Gl, app: &AppState, mv: &mut Multiview, window: (u32, u32)) {
     let wanted = QuiltLayout::new(mv.settings.quilt, mv.settings.tile, window);
+    let mode = crate::multiview::fast::synthesis::mode_for(&mv.settings, mv.info);
+    let wanted = wanted.with_guard(crate::multiview::fast::guard::room(&mv.settings, mode, wanted.tile_w));
     if mv
         .target
         .as_ref()
@@ -46,6 +48,8 @@ pub fn ensure_target(gl: &Gl, app: &AppState, mv: &mut Multiview, window: (u32, 
                 },
             ));
             mv.target = Some(t);
+            // The band is decided again at the frame's end, for the room the new quilt has.
+            mv.guard = 0;
             mv.update_rig(wanted);
             rebind(gl, app, mv);
         }

@@ -67,7 +67,7 @@ pub fn quilt(gl: &Gl, app: &AppState, mv: &mut Multiview, views: Views, blending
         .target
         .as_ref()
         .filter(|t| t.samples == 0)
-        .map(|t| (t.layout.width() as i32, t.layout.height() as i32))?;
+        .map(|t| (t.layout.storage_width() as i32, t.layout.height() as i32))?;
     let img = mv.record.quilt_image(gl, size);
     mv.record.mark(false, views.only());
     DisparityRecord::attach_bound(gl, img, 0);

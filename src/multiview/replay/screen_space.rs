@@ -44,16 +44,18 @@ pub fn camera_uniforms(app: &AppState, mv: &Multiview, identity: bool, out: &mut
 
 /// Uploads view `i`'s sheared projection (or its inverse); `None`: the app's values back.
 pub fn set(gl: &Gl, app: &AppState, mv: &Multiview, uniforms: &[CameraUniform], i: Option<u32>) {
+    set_moved(gl, app, mv, uniforms, i.map(|i| (i, 0.0)));
+}
+
+/// `set`, view `i`'s image moved by `dh` more (NDC: a guard band's strip).
+pub fn set_moved(gl: &Gl, app: &AppState, mv: &Multiview, uniforms: &[CameraUniform], view: Option<(u32, f32)>) {
     let Some(p) = mv.camera.camera_projection else { return };
     for u in uniforms {
-        let value = match i {
+        let value = match view {
             None => u.original,
-            Some(i) => {
-                if u.inverse {
-                    mv.sheared_camera.inverse(&mv.camera.rig, &p, i)
-                } else {
-                    mv.sheared_camera.get(&mv.camera.rig, &p, i)
-                }
+            Some((i, dh)) => {
+                let (m, inv) = mv.sheared_camera.moved(&mv.camera.rig, &p, i, dh);
+                if u.inverse { inv } else { m }
             }
         };
         // SAFETY: a uniform of the current program, through the real entry point (so our

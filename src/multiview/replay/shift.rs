@@ -291,6 +291,23 @@ impl ShearedProjections {
         self.both(rig, p, i).1
     }
 
+    /// View `i`'s shear of `p` with its image moved by `dh` more (NDC), and its inverse: a
+    /// guard band's strip (`fast::guard`), made for the draw (not kept: a strip is two
+    /// draws of the frame's many).
+    pub fn moved(&self, rig: &crate::camera::ViewRig, p: &[f32; 16], i: u32, dh: f32) -> ([f32; 16], [f32; 16]) {
+        if dh == 0.0 {
+            return self.both(rig, p, i);
+        }
+        let infinity = self.0.borrow().infinity;
+        let rig = crate::camera::ViewRig {
+            convergence: if infinity { 0.0 } else { rig.convergence },
+            ..*rig
+        };
+        let m = rig.shear_moved(i, &p.map(f64::from), f64::from(dh));
+        let inv = crate::camera::invert(&m).unwrap_or(m);
+        (m.map(|x| x as f32), inv.map(|x| x as f32))
+    }
+
     fn both(&self, rig: &crate::camera::ViewRig, p: &[f32; 16], i: u32) -> ([f32; 16], [f32; 16]) {
         let mut s = self.0.borrow_mut();
         let key = (

@@ -79,6 +79,16 @@ pub fn clear(gl: &Gl, app: &mut AppState, mv: &mut Multiview, stencil: bool, f: 
         unsafe { gl.Scissor(r[0], r[1], r[2], r[3]) };
         f();
     }
+    // The guard band's strips are cleared as their views' tiles are.
+    if mv.guard > 0 && mv.plan.synthesise && !mv.plan.warped {
+        let rects = (app.viewport, scissored.then_some(app.scissor));
+        crate::multiview::fast::guard::strip_draws(mv, layout, mv.guard, rects, false, |strip| {
+            let r = strip.scissor;
+            // SAFETY: as above.
+            unsafe { gl.Scissor(r[0], r[1], r[2], r[3]) };
+            f();
+        });
+    }
     let s = app.scissor;
     // SAFETY: the app's scissor box and test back.
     unsafe {

@@ -31,6 +31,9 @@ pub struct Settings {
     pub far_bias: f32,
     pub count_holes: bool,
     pub second_fills_holes: bool,
+    /// Source columns beyond each side of the target row (the guard band): a source row is
+    /// `width + 2 guard` pixels, its pixel `i` at target column `i - guard`.
+    pub guard: usize,
 }
 
 /// One target: camera offsets from (second, preferred) source, their layers, and whether
@@ -252,11 +255,14 @@ impl Row<'_> {
 
     fn scan_towards<const MIRRORED: bool>(&mut self, lands: &mut Lands, row: &[SrcPixel], k: f32, f: f32) {
         let (width, thr) = (self.width, self.s.threshold);
+        // The source row, guard band included (mirrored, its columns still sit `guard` left
+        // of the target's: the band is as wide on both sides).
+        let sw = width + 2 * self.s.guard;
         let dir = if MIRRORED { -1.0 } else { 1.0 };
-        let row = &row[..width];
-        let src = |i: usize| if MIRRORED { &row[width - 1 - i] } else { &row[i] };
-        lands.make(width, src, dir * k, dir * f, thr);
-        let (xs, ds, reach) = (&lands.x[..width], &lands.d[..width], &lands.reach[..width]);
+        let row = &row[..sw];
+        let src = |i: usize| if MIRRORED { &row[sw - 1 - i] } else { &row[i] };
+        lands.make(sw, src, (dir * k, dir * f), thr, self.s.guard);
+        let (xs, ds, reach) = (&lands.x[..sw], &lands.d[..sw], &lands.reach[..sw]);
         let landed = |i: usize| {
             let p = src(i);
             Landed {
@@ -273,7 +279,7 @@ impl Row<'_> {
         let mut x = 0;
         while x < width {
             let c = x as f32 + 0.5;
-            while t < width && reach[t] <= c {
+            while t < sw && reach[t] <= c {
                 let bx = xs[t];
                 if t > 0 && bx + 0.5 > h0 && bx < front - 0.5 && bx > OFF_ROW && xs[t - 1] > OFF_ROW {
                     let (a, b) = (landed(t - 1), landed(t));
@@ -285,7 +291,7 @@ impl Row<'_> {
                 t += 1;
             }
             let at = |x: usize| if MIRRORED { width - 1 - x } else { x };
-            if t > 0 && t < width {
+            if t > 0 && t < sw {
                 let (ax, bx) = (xs[t - 1], xs[t]);
                 let on_row = ax > OFF_ROW && bx > OFF_ROW;
                 let (pa, pb) = (src(t - 1), src(t));
@@ -316,8 +322,8 @@ impl Row<'_> {
                     continue;
                 }
             }
-            let (a, b) = (landed(t.saturating_sub(1)), landed(t.min(width - 1)));
-            self.emit(x, &a, &b, t == 0, t >= width, dir);
+            let (a, b) = (landed(t.saturating_sub(1)), landed(t.min(sw - 1)));
+            self.emit(x, &a, &b, t == 0, t >= sw, dir);
             x += 1;
         }
     }
@@ -340,15 +346,23 @@ pub(super) struct Lands {
 }
 
 impl Lands {
-    /// `k`, `f`: the shift per unit of parallax and the constant shift, signed for the scan.
-    fn make<'r>(&mut self, width: usize, src: impl Fn(usize) -> &'r SrcPixel, k: f32, f: f32, thr: f32) {
+    /// `k`, `f`: the shift per unit of parallax and the constant shift, signed for the scan;
+    /// source pixel `i` sits at target column `i - guard`.
+    fn make<'r>(
+        &mut self,
+        width: usize,
+        src: impl Fn(usize) -> &'r SrcPixel,
+        (k, f): (f32, f32),
+        thr: f32,
+        guard: usize,
+    ) {
         self.x.resize(width, 0.0);
         self.d.resize(width, 0.0);
         self.reach.resize(width, 0.0);
         let (xs, ds) = (&mut self.x[..width], &mut self.d[..width]);
         for i in 0..width {
             let d = k * src(i).parallax + f;
-            let x = i as f32 + 0.5 + d;
+            let x = (i as isize - guard as isize) as f32 + 0.5 + d;
             xs[i] = if x.abs() < 1.0e6 { x } else { OFF_ROW_X };
             ds[i] = d;
         }

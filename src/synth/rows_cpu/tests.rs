@@ -8,6 +8,7 @@ fn settings() -> Settings {
         far_bias: 1.0 / 16384.0,
         count_holes: true,
         second_fills_holes: true,
+        guard: 0,
     }
 }
 
@@ -159,9 +160,10 @@ mod reference {
 
     #[allow(dead_code)]
     fn land(r: &Row, row: &[SrcPixel], i: usize, k: f32, f: f32, dir: f32) -> Landed {
-        let p = row[if dir > 0.0 { i } else { r.width - 1 - i }];
+        let (sw, g) = (r.width + 2 * r.s.guard, r.s.guard);
+        let p = row[if dir > 0.0 { i } else { sw - 1 - i }];
         let d = dir * (k * p.parallax + f);
-        let x = i as f32 + 0.5 + d;
+        let x = (i as isize - g as isize) as f32 + 0.5 + d;
         let ok = x.abs() < 1.0e6;
         Landed {
             x: if ok { x } else { -1.0e30 },
@@ -174,22 +176,23 @@ mod reference {
 
     pub fn scan(r: &mut Row, row: &[SrcPixel], du: f32) {
         let (width, thr) = (r.width, r.s.threshold);
+        let sw = width + 2 * r.s.guard;
         let (k, f) = (du * r.s.px.0, du * r.s.px.1);
         let dir = if k > 0.0 { -1.0 } else { 1.0 };
         let mut a = land(r, row, 0, k, f, dir);
         let mut b = a;
-        let mut n = land(r, row, 1.min(width - 1), k, f, dir);
+        let mut n = land(r, row, 1.min(sw - 1), k, f, dir);
         let (mut t, mut x) = (0usize, 0usize);
         let (mut h0, mut h1) = (1.0e30f32, -1.0e30f32);
         let mut front = -1.0e30f32;
-        let edge = |t: usize, b: &Landed, n: &Landed| t + 1 >= width || !n.ok || (n.d - b.d).abs() > thr;
-        for _ in 0..2 * width + 2 {
+        let edge = |t: usize, b: &Landed, n: &Landed| t + 1 >= sw || !n.ok || (n.d - b.d).abs() > thr;
+        for _ in 0..2 * sw + 2 {
             if x >= width {
                 break;
             }
             let c = x as f32 + 0.5;
             let mut reach = b.x + if edge(t, &b, &n) { 0.5 } else { 0.0 };
-            if t < width && reach <= c {
+            if t < sw && reach <= c {
                 if t > 0 && a.ok && b.ok && b.x < front - 0.5 && b.x + 0.5 > h0 && a.x.min(b.x) < h1 + 0.5 {
                     r.over_holes(&a, &b, (b.d - a.d).abs() <= thr, c, (h0, h1), dir);
                 }
@@ -197,19 +200,18 @@ mod reference {
                 a = b;
                 b = n;
                 t += 1;
-                if t + 1 < width {
+                if t + 1 < sw {
                     n = land(r, row, t + 1, k, f, dir);
                 }
                 reach = b.x + if edge(t, &b, &n) { 0.5 } else { 0.0 };
             }
-            if t >= width || reach > c {
-                let gap =
-                    t > 0 && t < width && a.ok && b.ok && (b.d - a.d).abs() > thr && c >= a.x + 0.5 && c < b.x - 0.5;
+            if t >= sw || reach > c {
+                let gap = t > 0 && t < sw && a.ok && b.ok && (b.d - a.d).abs() > thr && c >= a.x + 0.5 && c < b.x - 0.5;
                 if gap {
                     h0 = h0.min(c);
                     h1 = c;
                 }
-                r.emit(x, &a, &b, t == 0, t >= width, dir);
+                r.emit(x, &a, &b, t == 0, t >= sw, dir);
                 x += 1;
             }
         }
@@ -219,10 +221,6 @@ mod reference {
 #[test]
 fn the_scan_makes_what_the_shaders_order_of_steps_makes() {
     let width = 61;
-    let s = Settings {
-        px: (9.0, 1.5),
-        ..settings()
-    };
     let mut seed = 12345u32;
     let mut next = move || {
         seed ^= seed << 13;
@@ -232,9 +230,15 @@ fn the_scan_makes_what_the_shaders_order_of_steps_makes() {
     };
     let mut lands = Lands::default();
     for trial in 0..400 {
+        // A guard band in every other trial: the source row is wider than the target's.
+        let s = Settings {
+            px: (9.0, 1.5),
+            guard: (trial % 2) * 7,
+            ..settings()
+        };
         // Runs of planes with steps between them, some pixels far off the row (not ok).
         let mut p = 0.0f32;
-        let row: Vec<SrcPixel> = (0..width)
+        let row: Vec<SrcPixel> = (0..width + 2 * s.guard)
             .map(|i| {
                 if next() % 7 == 0 {
                     p = (next() % 1000) as f32 / 500.0 - 1.0;
@@ -287,4 +291,33 @@ fn ceil_is_the_library_ceil() {
     ] {
         assert_eq!(ceil(v), v.ceil() as i64, "{v}");
     }
+}
+
+#[test]
+fn a_guard_band_shows_what_lies_beyond_the_tile_instead_of_stretching_its_border() {
+    // A plane whose colour is its column, seen from a view 3 px to the left: without the band
+    // the tile's first pixel stretches over the 3 columns that come into view; with it they
+    // are the band's own pixels, and no pixel is filled over a hole.
+    let (w, g) = (16usize, 4usize);
+    let column = |x: isize| SrcPixel {
+        color: (x + 100) as u32,
+        depth: 0.5,
+        parallax: 0.25,
+    };
+    let plain: Vec<SrcPixel> = (0..w as isize).map(column).collect();
+    let banded: Vec<SrcPixel> = (-(g as isize)..(w + g) as isize).map(column).collect();
+    let s = Settings {
+        px: (12.0, 0.0),
+        ..settings()
+    };
+    let mut out = vec![OutPixel::default(); w];
+    let holes = warp(&plain, Output::Warped(&mut out), (w, 1), &one(1.0), &s, 1);
+    assert_eq!(holes, Some(3), "3 columns come into view");
+    assert!(out[..3].iter().all(|o| o.color == 100), "stretched: {out:?}");
+    let s = Settings { guard: g, ..s };
+    let holes = warp(&banded, Output::Warped(&mut out), (w, 1), &one(1.0), &s, 1);
+    assert_eq!(holes, Some(0));
+    let colours: Vec<u32> = out.iter().map(|o| o.color).collect();
+    let want: Vec<u32> = (0..w as u32).map(|x| x + 97).collect();
+    assert_eq!(colours, want, "every pixel the plane's own, 3 columns on");
 }
