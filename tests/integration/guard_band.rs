@@ -56,7 +56,10 @@ fn the_band_shows_what_lies_beyond_the_rendered_views_edge() {
     // one: colours mixed in 1/256 steps instead of floats).
     let (gpu, _) = quilt(&dir, "gpu", "synth", &["--guard-band", "auto", "--rows-on", "gpu"]);
     let same = tile_psnr(&read_png(&band), &read_png(&gpu), 5, 1);
-    assert!(same.iter().all(|&p| p >= 60.0), "CPU and GPU scans with the band: {same:.2?}");
+    assert!(
+        same.iter().all(|&p| p >= 60.0),
+        "CPU and GPU scans with the band: {same:.2?}"
+    );
     let (e, o, b) = (read_png(&exact), read_png(&off), read_png(&band));
     let with = tile_psnr(&e, &b, 5, 1);
     assert!(with[2].is_infinite(), "the rendered view must stay exact: {with:.2?}");
