@@ -64,9 +64,13 @@ fn exact_submits_every_draw_once_per_view_and_synth_once() {
         "exact: one replay per view"
     );
     assert_eq!(exact.compute, 0, "exact runs no compute pass");
-    let synth = counts("synth", &["--synth-warp", "rows"]);
+    let synth = counts("synth", &["--synth-warp", "rows", "--guard-band", "off"]);
     assert_eq!(synth.app, exact.app, "the same frames of the same program");
     assert_eq!(synth.submitted - synth.own, synth.app, "synth renders one view");
+    // The guard band's two strips per rendered view are two more draws of each draw of the
+    // scene (cubes draws nothing but its scene).
+    let band = counts("synth", &["--synth-warp", "rows", "--guard-band", "8"]);
+    assert_eq!(band.submitted - band.own, 3 * band.app, "synth with a guard band");
     assert!(
         synth.compute > 0,
         "the row warp is a compute pass: {} invocations",

@@ -27,7 +27,7 @@ use std::time::Instant;
 /// view, which no border is worth), and one outer view's border is worth little more.
 const AUTO_LIMIT: f64 = 0.10;
 /// Frames the share is measured over before `auto` judges it, and frames it then stays off.
-const JUDGE_AFTER: u32 = 8;
+const JUDGE_AFTER: u32 = 4;
 const RETRY_AFTER: u64 = 300;
 /// The process's first frames link programs and make resources: not timed.
 const WARM_UP: u64 = 5;
