@@ -54,9 +54,11 @@ layout(std430, binding = 0) readonly buffer Targets { Target targets[]; };
 
 int row;
 int width;
-// A source row is wider by the guard band on both sides (`u_guard` px, 0 without one): its
-// pixel i sits at target column i - u_guard.
+// A source row is wider by the guard band on both sides (`u_guard` px, 0 without one). A scan
+// walks the `guard` columns of it its target can see (`band_used`): its pixel i sits at target
+// column i - guard.
 uniform int u_guard;
+int guard;
 int src_width;
 // Index of this row's first pixel in the output.
 int out_base;
@@ -142,7 +144,7 @@ Landed land(int base, int i, float k, float f, float dir)
 {
     Pixel s = src_pixels[base + (dir > 0.0 ? i : src_width - 1 - i)];
     float d = dir * (k * s.parallax + f);
-    float X = float(i - u_guard) + 0.5 + d;
+    float X = float(i - guard) + 0.5 + d;
     bool ok = abs(X) < 1.0e6;
     return Landed(ok ? X : -1.0e30, d, s.color, s.depth, ok);
 }
@@ -230,7 +232,18 @@ void scan(int src, float du)
     float k = du * u_px.x, f = du * u_px.y;
     // Parallax grows with distance, so with k > 0 nearer pixels move left: mirror the row.
     float dir = k > 0.0 ? -1.0 : 1.0;
-    int base = (src * u_tile.y + row) * src_width;
+    // The band's columns this target can see: what moves in from beyond the edge at parallax
+    // -1 to 1, and one more (as rows_cpu/row.rs `band_used`).
+    guard = 0;
+    if (u_guard > 0) {
+        float reach = max(abs(f), max(abs(k + f), abs(f - k)));
+        // All of it past its width, and for shifts not finite (int() of either is undefined,
+        // and max() of a NaN either operand).
+        bool small = abs(k) < 1.0e30 && abs(f) < 1.0e30 && reach < float(u_guard);
+        guard = small ? min(int(ceil(reach)) + 1, u_guard) : u_guard;
+    }
+    src_width = width + 2 * guard;
+    int base = (src * u_tile.y + row) * (width + 2 * u_guard) + (u_guard - guard);
     Landed a = land(base, 0, k, f, dir);
     Landed b = a;
     // The pixel after b: where (b, n) is a depth edge, b keeps its right half-pixel whatever
@@ -279,7 +292,6 @@ void main()
     row = int(gl_GlobalInvocationID.x);
     int layer = int(gl_GlobalInvocationID.y);
     width = u_tile.x;
-    src_width = width + 2 * u_guard;
     if (row >= u_tile.y || layer >= u_targets) {
         return;
     }

@@ -58,7 +58,7 @@ pub static OPTIONS: &[OptDef] = &[
         |v| super::parse::synth_warp(v).map(|_| ())),
     opt("rows-on", "auto|gpu|cpu", "where the row warp's scan runs: auto (default: the CPU under a software rasteriser such as llvmpipe, whose compute passes access storage one lane at a time; else the GPU), gpu (a compute pass) or cpu (this process's threads, the storage mapped)",
         |v| super::parse::rows_on(v).map(|_| ())),
-    opt("guard-band", "auto|off|N", "synthesis (row warp, the scene drawn to the window): render N columns beyond each side of every rendered view (auto, the default: as many as the background moves between a synthesised view and its source, up to a sixteenth of the tile), so the outer views show what lies beyond the rendered view's edge instead of its border pixels stretched",
+    opt("guard-band", "auto|off|N", "synthesis (row warp, the scene drawn to the window): render N columns beyond each side of every rendered view (auto, the default: as many as the background moves between a synthesised view and its source, up to a quarter of the tile), so the outer views show what lies beyond the rendered view's edge instead of its border pixels stretched",
         |v| super::parse::guard_band(v).map(|_| ())),
     opt("measure-error", "LIST|every:N", "on these frames render the exact quilt too and log each synthesised view's PSNR against it",
         |v| super::parse::frames(v).map(|_| ())),

@@ -220,7 +220,7 @@ pub enum RowsOn {
 pub enum GuardBand {
     Off,
     /// As wide as the largest disparity of the background (parallax 0 to 1) between a
-    /// synthesised view and its source, up to a sixteenth of the tile width.
+    /// synthesised view and its source, up to a quarter of the tile width.
     Auto,
     /// This many columns each side.
     Columns(u32),

@@ -41,7 +41,21 @@ pub fn quilt(
     }
     let rgb = super::png::rgba_bottom_up_to_rgb_top_down(&rgba, w, h);
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-    super::png::write_rgb(&dir.join(format!("f{frame:06}_{}.png", l.file_tag())), w, h, &rgb)
+    super::png::write_rgb(&dir.join(format!("f{frame:06}_{}.png", l.file_tag())), w, h, &rgb)?;
+    if mv.guard > 0 {
+        // The guard band's strips as the warp read them (`fast::guard`): each rendered view's
+        // left and right strip side by side, one quilt row per rendered view from the bottom.
+        let gw = 2 * l.guard;
+        let rgba = readback::read_rgba(
+            gl,
+            mv.info,
+            readback::Source::Fbo(target.resolved_fbo),
+            [w as i32, 0, gw as i32, h as i32],
+        )?;
+        let rgb = super::png::rgba_bottom_up_to_rgb_top_down(&rgba, gw, h);
+        super::png::write_rgb(&dir.join(format!("f{frame:06}_guard.png")), gw, h, &rgb)?;
+    }
+    Ok(())
 }
 
 /// Exchanges the tiles of grid cells `a` and `b` in a bottom-up RGBA8 image of the quilt: the

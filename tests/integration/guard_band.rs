@@ -43,7 +43,7 @@ fn border_and_view(exact: &Image, fast: &Image, v: u32) -> (f64, f64) {
 /// without it, the warp stretches the border pixels. The rendered view stays exact; the outer
 /// views' border columns come much closer to exact (measured: view 0 from 21.6 to 29.7 dB, view 4 from 29.6 to 33.1 dB) and no view
 /// gets worse; the log says how wide the band was (the rig's 14.4 px at infinity in the outer
-/// views, plus one, within the room of a sixteenth of the tile: 15).
+/// views, plus one, the room a quarter of the tile: 16).
 #[test]
 fn the_band_shows_what_lies_beyond_the_rendered_views_edge() {
     require_display();
@@ -51,7 +51,7 @@ fn the_band_shows_what_lies_beyond_the_rendered_views_edge() {
     let (exact, _) = quilt(&dir, "exact", "exact", &[]);
     let (off, _) = quilt(&dir, "off", "synth", &["--guard-band", "off"]);
     let (band, log) = quilt(&dir, "auto", "synth", &["--guard-band", "auto", "--rows-on", "cpu"]);
-    assert!(log.contains("guard band: 15 columns each side"), "{log}");
+    assert!(log.contains("guard band: 16 columns each side"), "{log}");
     // The compute pass reads the band as the CPU's scan does (66-78 dB between them without
     // one: colours mixed in 1/256 steps instead of floats).
     let (gpu, _) = quilt(&dir, "gpu", "synth", &["--guard-band", "auto", "--rows-on", "gpu"]);

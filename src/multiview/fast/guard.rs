@@ -14,7 +14,9 @@
 //! drawing into framebuffer 0 (a composited scene's passes run in the app's framebuffers,
 //! whose shadows have no room beside their layers), and no more rendered views than the room
 //! has slots. Draws that are not seen through the camera (a clear, a full-screen quad behind
-//! the scene) are drawn unshifted, so a strip holds the tile's own border columns there.
+//! the scene) keep their geometry, so a strip holds the tile's own border columns there,
+//! except what they compute from the camera's matrices (a sky drawn as a full-screen quad
+//! that un-projects each pixel), which gets the strip's move.
 
 use crate::config::{GuardBand, Mode, SynthWarp, ViewSettings};
 use crate::multiview::Multiview;
@@ -131,10 +133,11 @@ pub fn room(settings: &ViewSettings, mode: Mode, tile_w: u32) -> u32 {
     }
 }
 
-/// The widest band `auto` draws: a sixteenth of the tile (26 columns of a 420-pixel tile),
-/// past which what comes into view is more than the warp should invent anyway.
+/// The widest band `auto` draws: a quarter of the tile (105 columns of a 420-pixel tile; a
+/// sky at infinity moves that far in the outer views of a deep rig), past which most of a
+/// synthesised view would come from the band anyway.
 fn auto_cap(tile_w: u32) -> u32 {
-    (tile_w / 16).max(4)
+    (tile_w / 4).max(4)
 }
 
 /// The band this frame draws, columns per side (0: none), decided at its start so that every
@@ -171,7 +174,7 @@ pub fn width(mv: &Multiview) -> u32 {
             let ndc = du * (rig.depthiness + rig.focus).abs().max(rig.focus.abs());
             let px = ndc * l.tile_w as f64 / 2.0;
             if px.is_finite() && px >= 0.5 {
-                ((px.ceil() as u32) + 1).min(l.guard)
+                ((px.min(f64::from(u32::MAX / 2)).ceil() as u32) + 1).min(l.guard)
             } else {
                 0
             }
@@ -185,8 +188,12 @@ pub struct StripDraw {
     pub view: u32,
     pub viewport: [i32; 4],
     pub scissor: [i32; 4],
-    /// The image shift added to the view's (NDC), 0 for unshifted draws.
+    /// The image shift added to the view's (NDC) for the strip's columns: applied to the
+    /// geometry of draws seen through the camera (`shifted`), and to the camera matrices a
+    /// screen-space pass un-projects with (a sky drawn as a full-screen quad) whatever its
+    /// geometry.
     pub dh: f32,
+    pub shifted: bool,
     /// Where window pixel (0, 0) of the view is in the quilt for this strip (the origin the
     /// program's `gl_FragCoord` is mapped from).
     pub origin: (i32, i32),
@@ -231,19 +238,15 @@ pub fn strip_draws(
                 None => strip,
                 Some(s) => intersect(strip, [strip[0], s[1] + ty, strip[2], s[3]]),
             };
-            let px = if !shifted {
-                0
-            } else if left {
-                g as i32
-            } else {
-                -(g as i32)
-            };
+            let px = if left { g as i32 } else { -(g as i32) };
+            let moved = if shifted { px } else { 0 };
             draw(StripDraw {
                 view: r,
                 viewport: [vp[0] + tx, vp[1] + ty, vp[2], vp[3]],
                 scissor,
                 dh: 2.0 * px as f32 / vp[2] as f32,
-                origin: (ox + tx + px, oy + ty),
+                shifted,
+                origin: (ox + tx + moved, oy + ty),
             });
         }
     }
@@ -315,7 +318,7 @@ mod tests {
         // Unshifted, the strips hold the tile's own border columns.
         let flat = super::tests::draws(&mv, l, None, false);
         assert_eq!(flat[0].viewport, left.viewport);
-        assert_eq!(flat[0].dh, 0.0);
+        assert_eq!((flat[0].dh, flat[0].shifted), (left.dh, false));
         assert_eq!(flat[0].origin.0, ls[0]);
         let _ = ox;
     }

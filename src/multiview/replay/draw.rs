@@ -126,12 +126,14 @@ fn replay(
     let identity = matches!(shift, Shift::Uniform { camera: false, .. });
     screen_space::camera_uniforms(app, mv, identity, &mut scratch.camera_uniforms);
     let (subs, camera_uniforms) = (&scratch.subs, &scratch.camera_uniforms);
-    // `dh`: the view's image moved by that much more (NDC), for a guard band's strip.
-    let set_view = |mv: &Multiview, i: u32, dh: f32| {
+    // `(dh, geometry)`: the view's image moved by `dh` more (NDC), for a guard band's strip:
+    // the camera matrices a pass un-projects with, and with `geometry` the draw's positions.
+    let set_view = |mv: &Multiview, i: u32, (dh, geometry): (f32, bool)| {
         // After the warp point a synthesised view samples its nearest rendered view's layer.
         let layer = if mv.plan.renders(i) { i } else { mv.plan.nearest(i) };
         substitute::bind_layers(gl, app, subs, Some(layer as usize));
         screen_space::set_moved(gl, app, mv, camera_uniforms, Some((i, dh)));
+        let dh = if geometry { dh } else { 0.0 };
         match shift {
             Shift::Uniform {
                 loc, mode, infinity, ..
@@ -158,7 +160,7 @@ fn replay(
         // `strip`: a guard band's strip of view i (its image shift and origin) instead of
         // its tile.
         let set_tile = |mv: &Multiview, i, strip: Option<&guard::StripDraw>| {
-            set_view(mv, i, strip.map_or(0.0, |s| s.dh));
+            set_view(mv, i, strip.map_or((0.0, false), |s| (s.dh, s.shifted)));
             let origin = strip.map_or_else(|| layout.origin(i), |s| s.origin);
             set_fragcoord(gl, app.program, fragcoord, Some((layout, origin)));
             if let Some((writes, views)) = recorded {
@@ -203,7 +205,7 @@ fn replay(
             if let Some((img, _)) = recording {
                 DisparityRecord::attach_bound(gl, img, i as i32);
             }
-            set_view(mv, i as u32, 0.0);
+            set_view(mv, i as u32, (0.0, false));
             f(i as u32);
             if let Some(fx) = fixed.filter(|_| recording.is_some()) {
                 fx.redraw(gl, || f(i as u32));

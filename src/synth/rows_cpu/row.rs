@@ -245,23 +245,32 @@ impl Row<'_> {
     /// `emit` gives it (tested against the shader's order).
     pub(super) fn scan(&mut self, lands: &mut Lands, row: &[SrcPixel], du: f32) {
         let (k, f) = (du * self.s.px.0, du * self.s.px.1);
+        // The band's columns this target can see (`band_used`), the rest left out of the walk.
+        let g = band_used(k, f, self.s.guard);
+        let row = &row[self.s.guard - g..][..self.width + 2 * g];
         // Scanned in the direction nearer pixels move.
         if k > 0.0 {
-            self.scan_towards::<true>(lands, row, k, f);
+            self.scan_towards::<true>(lands, row, (k, f), g);
         } else {
-            self.scan_towards::<false>(lands, row, k, f);
+            self.scan_towards::<false>(lands, row, (k, f), g);
         }
     }
 
-    fn scan_towards<const MIRRORED: bool>(&mut self, lands: &mut Lands, row: &[SrcPixel], k: f32, f: f32) {
+    pub(super) fn scan_towards<const MIRRORED: bool>(
+        &mut self,
+        lands: &mut Lands,
+        row: &[SrcPixel],
+        (k, f): (f32, f32),
+        guard: usize,
+    ) {
         let (width, thr) = (self.width, self.s.threshold);
         // The source row, guard band included (mirrored, its columns still sit `guard` left
         // of the target's: the band is as wide on both sides).
-        let sw = width + 2 * self.s.guard;
+        let sw = width + 2 * guard;
         let dir = if MIRRORED { -1.0 } else { 1.0 };
         let row = &row[..sw];
         let src = |i: usize| if MIRRORED { &row[sw - 1 - i] } else { &row[i] };
-        lands.make(sw, src, (dir * k, dir * f), thr, self.s.guard);
+        lands.make(sw, src, (dir * k, dir * f), thr, guard);
         let (xs, ds, reach) = (&lands.x[..sw], &lands.d[..sw], &lands.reach[..sw]);
         let landed = |i: usize| {
             let p = src(i);
@@ -327,6 +336,23 @@ impl Row<'_> {
             x += 1;
         }
     }
+}
+
+/// The guard band's columns (of `guard`) a scan moving pixels by `k p + f` can bring into the
+/// row: what moves in from beyond the edge at parallax -1 (half the convergence distance) to 1
+/// (infinity), and one more for the piece it ends. Fewer band columns, less of a walk: a
+/// target next to its source scans none of a band made for the outermost one.
+pub(super) fn band_used(k: f32, f: f32, guard: usize) -> usize {
+    if guard == 0 {
+        return 0;
+    }
+    let reach = f.abs().max((k + f).abs()).max((f - k).abs());
+    // All of it past its width, and for shifts not finite (the shader's int() of either is
+    // undefined, and max() of a NaN either operand).
+    if !(k.abs() < 1.0e30 && f.abs() < 1.0e30 && reach < guard as f32) {
+        return guard;
+    }
+    (ceil(reach) as usize + 1).min(guard)
 }
 
 /// Where a pixel that lands off the row is put (`land` in the shader): below every target

@@ -176,8 +176,20 @@ mod reference {
 
     pub fn scan(r: &mut Row, row: &[SrcPixel], du: f32) {
         let (width, thr) = (r.width, r.s.threshold);
-        let sw = width + 2 * r.s.guard;
         let (k, f) = (du * r.s.px.0, du * r.s.px.1);
+        // The band's columns the shader walks, as it picks them.
+        let g = band_used(k, f, r.s.guard);
+        let row = &row[r.s.guard - g..];
+        let s = Settings { guard: g, ..*r.s };
+        let mut r = Row {
+            out: &mut *r.out,
+            width,
+            s: &s,
+            first_scan: r.first_scan,
+            second: r.second,
+        };
+        let r = &mut r;
+        let sw = width + 2 * g;
         let dir = if k > 0.0 { -1.0 } else { 1.0 };
         let mut a = land(r, row, 0, k, f, dir);
         let mut b = a;
@@ -320,4 +332,70 @@ fn a_guard_band_shows_what_lies_beyond_the_tile_instead_of_stretching_its_border
     let colours: Vec<u32> = out.iter().map(|o| o.color).collect();
     let want: Vec<u32> = (0..w as u32).map(|x| x + 97).collect();
     assert_eq!(colours, want, "every pixel the plane's own, 3 columns on");
+}
+
+#[test]
+fn a_scan_walks_only_the_band_columns_its_target_can_see() {
+    // Rows of parallax within [-1, 1]: the columns `band_used` leaves out land off the row, so
+    // walking the whole band makes the same row, for every camera offset.
+    let (w, guard) = (40usize, 30usize);
+    let s = Settings {
+        px: (9.0, 1.5),
+        guard,
+        ..settings()
+    };
+    let mut seed = 99u32;
+    let mut next = move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 17;
+        seed ^= seed << 5;
+        seed
+    };
+    let mut lands = Lands::default();
+    for trial in 0..200 {
+        let mut p = 0.0f32;
+        let row: Vec<SrcPixel> = (0..w + 2 * guard)
+            .map(|_| {
+                if next() % 5 == 0 {
+                    p = (next() % 2000) as f32 / 1000.0 - 1.0;
+                }
+                SrcPixel {
+                    color: next(),
+                    depth: (p + 1.0) / 3.0,
+                    parallax: p,
+                }
+            })
+            .collect();
+        let du = (next() % 2000) as f32 / 1000.0 - 1.0;
+        let (k, f) = (du * s.px.0, du * s.px.1);
+        assert!(
+            band_used(k, f, guard) < guard || du.abs() > 0.99,
+            "du {du}: the band trimmed"
+        );
+        let (mut whole, mut trimmed) = (vec![OutPixel::default(); w], vec![OutPixel::default(); w]);
+        let mut r = Row {
+            out: &mut whole,
+            width: w,
+            s: &s,
+            first_scan: true,
+            second: false,
+        };
+        if k > 0.0 {
+            r.scan_towards::<true>(&mut lands, &row, (k, f), guard);
+        } else {
+            r.scan_towards::<false>(&mut lands, &row, (k, f), guard);
+        }
+        let mut r = Row {
+            out: &mut trimmed,
+            width: w,
+            s: &s,
+            first_scan: true,
+            second: false,
+        };
+        r.scan(&mut lands, &row, du);
+        assert_eq!(whole, trimmed, "trial {trial}, du {du}");
+    }
+    assert_eq!(band_used(0.0, 0.0, 30), 1);
+    assert_eq!(band_used(f32::NAN, 0.0, 30), 30);
+    assert_eq!(band_used(5.0, 0.0, 0), 0);
 }
