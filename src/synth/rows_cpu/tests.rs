@@ -230,16 +230,20 @@ mod reference {
     }
 }
 
-#[test]
-fn the_scan_makes_what_the_shaders_order_of_steps_makes() {
-    let width = 61;
-    let mut seed = 12345u32;
-    let mut next = move || {
+/// A repeatable stream of pseudo-random numbers (xorshift32) from `seed`.
+fn xorshift(mut seed: u32) -> impl FnMut() -> u32 {
+    move || {
         seed ^= seed << 13;
         seed ^= seed >> 17;
         seed ^= seed << 5;
         seed
-    };
+    }
+}
+
+#[test]
+fn the_scan_makes_what_the_shaders_order_of_steps_makes() {
+    let width = 61;
+    let mut next = xorshift(12345u32);
     let mut lands = Lands::default();
     for trial in 0..400 {
         // A guard band in every other trial: the source row is wider than the target's.
@@ -344,13 +348,7 @@ fn a_scan_walks_only_the_band_columns_its_target_can_see() {
         guard,
         ..settings()
     };
-    let mut seed = 99u32;
-    let mut next = move || {
-        seed ^= seed << 13;
-        seed ^= seed >> 17;
-        seed ^= seed << 5;
-        seed
-    };
+    let mut next = xorshift(99u32);
     let mut lands = Lands::default();
     for trial in 0..200 {
         let mut p = 0.0f32;
