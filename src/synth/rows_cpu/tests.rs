@@ -256,7 +256,7 @@ fn the_scan_makes_what_the_shaders_order_of_steps_makes() {
         let mut p = 0.0f32;
         let row: Vec<SrcPixel> = (0..width + 2 * s.guard)
             .map(|i| {
-                if next() % 7 == 0 {
+                if next().is_multiple_of(7) {
                     p = (next() % 1000) as f32 / 500.0 - 1.0;
                 }
                 p += 0.01;
@@ -354,7 +354,7 @@ fn a_scan_walks_only_the_band_columns_its_target_can_see() {
         let mut p = 0.0f32;
         let row: Vec<SrcPixel> = (0..w + 2 * guard)
             .map(|_| {
-                if next() % 5 == 0 {
+                if next().is_multiple_of(5) {
                     p = (next() % 2000) as f32 / 1000.0 - 1.0;
                 }
                 SrcPixel {
