@@ -185,6 +185,8 @@ pub struct Synthesizer {
     /// The CPU row warp's colour, kept between frames (`rows_host`): a new allocation of a
     /// quilt's worth every frame would fault in every page again.
     cpu_colour: Vec<u32>,
+    /// What the last CPU row warp saw of its sources' guard band (`rows_cpu::band_differs`).
+    band_seen: Option<(u64, u64)>,
 }
 
 impl Synthesizer {
@@ -282,7 +284,13 @@ impl Synthesizer {
         let on_cpu = job
             .rows_on_cpu
             .unwrap_or_else(|| *self.software.get_or_insert_with(|| crate::gl::software_renderer(gl)));
-        rows::run(&pass, &row_programs, out, job, (on_cpu, &mut self.cpu_colour))
+        rows::run(
+            &pass,
+            &row_programs,
+            out,
+            job,
+            (on_cpu, &mut self.cpu_colour, &mut self.band_seen),
+        )
     }
 
     /// Our framebuffer, vertex array and working storage for `sources` views of `tile`;
@@ -341,6 +349,13 @@ impl Synthesizer {
     /// other warps. Waits for the warp.
     pub fn hole_fraction(&self, gl: &Gl) -> Option<f64> {
         self.row_targets.as_ref().map(|t| t.hole_fraction(gl))
+    }
+
+    /// Of the guard band the last warps read since the previous call: its pixels that differ
+    /// from the tile's border pixel of their row, and all of them (`rows_cpu::band_differs`);
+    /// `None` when no CPU scan read a band.
+    pub fn take_band_seen(&mut self) -> Option<(u64, u64)> {
+        self.band_seen.take()
     }
 
     /// The last row warp's output, whose depths' sign bits mark the pixels filled over holes

@@ -163,14 +163,14 @@ impl RowTargets {
 }
 
 /// Warps every target of `job` row by row; the sources are copied by `pass`.
-/// `on_cpu`: the scan by this process's threads (`rows_host`, `colour` its scratch), else by
-/// a compute pass.
+/// `on_cpu`: the scan by this process's threads (`rows_host`, `colour` its scratch, `band`
+/// what it saw of the guard band), else by a compute pass.
 pub fn run(
     pass: &Pass,
     programs: &RowPrograms,
     out: &RowTargets,
     job: &Job,
-    (on_cpu, colour): (bool, &mut Vec<u32>),
+    (on_cpu, colour, band): (bool, &mut Vec<u32>, &mut Option<(u64, u64)>),
 ) -> Result<(), String> {
     let mut profile = super::profile::Profile::new(pass.gl);
     for (j, source) in job.sources.iter().enumerate() {
@@ -181,7 +181,7 @@ pub fn run(
         profile.lap("parallax");
     }
     if on_cpu {
-        match rows_host::warp(pass, &out.storage(), job, colour, &mut profile) {
+        match rows_host::warp(pass, &out.storage(), job, (colour, band), &mut profile) {
             Ok(rows_host::Done::InTiles) => return Ok(()),
             Ok(rows_host::Done::Warped) => {}
             Err(e) => {

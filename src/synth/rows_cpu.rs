@@ -138,6 +138,32 @@ pub fn warp<'o>(
     })
 }
 
+/// How many of the guard band's pixels (`guard` columns each side of every source row, the
+/// sources laid out as `warp` reads them) differ from the tile's border pixel of their row and
+/// side by more than a few levels in a channel, and how many there are: a band whose pixels
+/// are all the border's own (a plain background around the scene) shows nothing the warp's
+/// stretch of the border would not.
+pub fn band_differs(sources: &[SrcPixel], (width, height): (usize, usize), guard: usize) -> (u64, u64) {
+    const LEVELS: i32 = 4;
+    let sw = width + 2 * guard;
+    let differ =
+        |a: u32, b: u32| (0..4).any(|c| ((a >> (8 * c) & 0xff) as i32 - (b >> (8 * c) & 0xff) as i32).abs() > LEVELS);
+    let (mut d, mut n) = (0u64, 0u64);
+    if width == 0 || guard == 0 {
+        return (0, 0);
+    }
+    for row in sources
+        .chunks_exact(sw)
+        .take(sources.len() / sw.max(1) / height.max(1) * height)
+    {
+        let (left, right) = (row[guard].color, row[guard + width - 1].color);
+        d += row[..guard].iter().filter(|p| differ(p.color, left)).count() as u64;
+        d += row[guard + width..].iter().filter(|p| differ(p.color, right)).count() as u64;
+        n += 2 * guard as u64;
+    }
+    (d, n)
+}
+
 /// `Output::Colour`'s `ready`.
 type Ready<'a> = &'a mut dyn FnMut(usize, &[u32]);
 

@@ -43,12 +43,13 @@ pub enum Done {
 }
 
 /// The scan of every target of `job` from the packed sources in `out` (waits for the
-/// packing passes); `colour`: scratch kept between frames for the direct upload.
+/// packing passes); `colour`: scratch kept between frames for the direct upload; `band`: what
+/// the sources' guard band held (`rows_cpu::band_differs`), added to.
 pub fn warp(
     pass: &Pass,
     out: &Storage,
     job: &Job,
-    colour: &mut Vec<u32>,
+    (colour, band): (&mut Vec<u32>, &mut Option<(u64, u64)>),
     profile: &mut Profile,
 ) -> Result<Done, String> {
     let gl = pass.gl;
@@ -72,6 +73,11 @@ pub fn warp(
         gl.MemoryBarrier(BUFFER_UPDATE_BARRIER_BIT);
         let src = Mapped::new(gl, out.packed, n_src * size_of::<SrcPixel>(), MAP_READ_BIT);
         let sources = src.slice::<SrcPixel>(n_src).ok_or("its sources could not be mapped")?;
+        if job.guard > 0 {
+            let (d, n) = rows_cpu::band_differs(sources, tile, job.guard as usize);
+            let (d0, n0) = band.unwrap_or((0, 0));
+            *band = Some((d0 + d, n0 + n));
+        }
         let holes = match direct {
             Some(d) => {
                 let unpack = crate::gl::unpack::UnpackState::neutral(gl);

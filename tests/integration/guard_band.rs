@@ -107,3 +107,35 @@ fn auto_drops_a_band_that_costs_more_than_it_is_worth() {
     assert!(fixed.contains("guard band: 12 columns each side"), "{fixed}");
     assert!(!fixed.contains("tried again"), "{fixed}");
 }
+
+/// A scene on a plain background that never reaches the tile's sides (cubes in a landscape
+/// window): the band holds the border's own colour, so `auto` drops it, said at info.
+#[test]
+fn auto_drops_a_band_that_shows_nothing_new() {
+    let options = [
+        "--log",
+        "debug",
+        "--mode",
+        "synth",
+        "--quilt",
+        "5x1",
+        "--guard-band",
+        "auto",
+        "--exit-after",
+        "20",
+    ];
+    let args = ["--backend", "osmesa", "--size", "320x240", "--frames", "20"];
+    let out = under_layer(&options, app("cubes"), &args, &[]);
+    assert_success(&out, "cubes --guard-band auto");
+    let err = stderr(&out);
+    assert!(
+        err.contains("guard band: 20 columns each side")
+            || err.contains("columns each side of the rendered views from frame"),
+        "{err}"
+    );
+    assert!(
+        err.contains("the band shows nothing the border's own pixels stretched would not"),
+        "{err}"
+    );
+    assert!(err.contains("guard band: 0 columns"), "{err}");
+}

@@ -28,6 +28,8 @@ use std::time::Instant;
 /// the rendered view draws (a program of 5,000 draws a frame runs 10,000 more per rendered
 /// view, which no border is worth), and one outer view's border is worth little more.
 const AUTO_LIMIT: f64 = 0.10;
+/// The share of the band's pixels under which `auto` finds it plain: the border's own colour.
+const PLAIN: f64 = 0.005;
 /// Frames the share is measured over before `auto` judges it, and frames it then stays off.
 const JUDGE_AFTER: u32 = 4;
 const RETRY_AFTER: u64 = 300;
@@ -49,6 +51,9 @@ pub struct Meter {
     /// Its width and its cost were said at `info`.
     shown: bool,
     told: bool,
+    /// Of the band's pixels the warps read: those that differ from their row's border pixel,
+    /// and all (`synth::Synthesizer::take_band_seen`), over the frames measured.
+    seen: (u64, u64),
 }
 
 impl Meter {
@@ -65,11 +70,14 @@ impl Meter {
     }
 }
 
-/// At a frame's end: the strips' cost measured, and the band of the next frame decided
-/// (`mv.guard`); `auto` drops a band that costs more than `AUTO_LIMIT` of the frame, said once
-/// at `info`, and tries again `RETRY_AFTER` frames later.
+/// At a frame's end: the strips' cost and content measured, and the band of the next frame
+/// decided (`mv.guard`). `auto` drops a band that costs more than `AUTO_LIMIT` of the frame,
+/// or whose pixels are the border's own (under `PLAIN` of them differ: a plain background
+/// around the scene, where the band costs its warp and strips for nothing), said at `info`,
+/// and tries again `RETRY_AFTER` frames later.
 pub fn end_frame(mv: &mut Multiview, frame: u64) {
     let now = Instant::now();
+    let seen = mv.synth.take_band_seen();
     let m = &mut mv.guard_meter;
     let spent = m.spent.replace(0.0);
     if let Some(last) = m.last_end.filter(|_| mv.guard > 0 && frame > WARM_UP) {
@@ -80,26 +88,47 @@ pub fn end_frame(mv: &mut Multiview, frame: u64) {
             0.8 * m.share + 0.2 * share
         };
         m.frames += 1;
+        if let Some((d, n)) = seen {
+            m.seen = (m.seen.0 + d, m.seen.1 + n);
+        }
     }
     m.last_end = Some(now);
     let auto = mv.settings.guard_band == GuardBand::Auto;
     let judged = m.frames >= JUDGE_AFTER;
-    if judged && !m.told && !(auto && m.share > AUTO_LIMIT) {
+    // (Seen only where the CPU scans: a compute pass's sources are not read back for it.)
+    let differing = (m.seen.1 > 0).then(|| m.seen.0 as f64 / m.seen.1 as f64);
+    let content = differing.map_or(String::new(), |d| {
+        format!(
+            "; {:.1} % of its pixels differ from the tile's border pixel of their row",
+            d * 100.0
+        )
+    });
+    let dear = m.share > AUTO_LIMIT;
+    let plain = differing.is_some_and(|d| d < PLAIN);
+    if judged && !m.told && !(auto && (dear || plain)) {
         m.told = true;
         crate::log::info(format_args!(
-            "guard band: its strips take {:.1} % of the frame",
+            "guard band: its strips take {:.1} % of the frame{content}",
             m.share * 100.0
         ));
     }
-    if auto && judged && m.share > AUTO_LIMIT {
+    if auto && judged && (dear || plain) {
+        let why = if dear {
+            format!(
+                "more than {:.0} %: every draw of the scene is drawn twice more per rendered view",
+                AUTO_LIMIT * 100.0
+            )
+        } else {
+            "the band shows nothing the border's own pixels stretched would not".to_string()
+        };
         crate::log::info(format_args!(
-            "guard band: its strips take {:.1} % of the frame (more than {:.0} %: every draw of the scene is drawn twice more per rendered view): off, tried again in {RETRY_AFTER} frames",
-            m.share * 100.0,
-            AUTO_LIMIT * 100.0
+            "guard band: its strips take {:.1} % of the frame{content} ({why}): off, tried again in {RETRY_AFTER} frames",
+            m.share * 100.0
         ));
         m.off_until = frame + RETRY_AFTER;
         m.frames = 0;
         m.share = 0.0;
+        m.seen = (0, 0);
     }
     let off = auto && frame < m.off_until;
     let g = if off { 0 } else { width(mv) };

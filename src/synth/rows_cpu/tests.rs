@@ -397,3 +397,24 @@ fn a_scan_walks_only_the_band_columns_its_target_can_see() {
     assert_eq!(band_used(f32::NAN, 0.0, 30), 30);
     assert_eq!(band_used(5.0, 0.0, 0), 0);
 }
+
+#[test]
+fn a_band_of_the_borders_own_colour_is_told_from_one_with_something_in_it() {
+    let (w, h, g) = (10usize, 3usize, 4usize);
+    let pixel = |color| SrcPixel {
+        color,
+        depth: 1.0,
+        parallax: 1.0,
+    };
+    // Two sources: a plain background (the band as the border, give or take a level), and one
+    // with an object in its left band on one row.
+    let mut src: Vec<SrcPixel> = (0..2 * h * (w + 2 * g))
+        .map(|i| pixel(0x0040_8020 + (i % 2) as u32))
+        .collect();
+    assert_eq!(band_differs(&src, (w, h), g), (0, 2 * 2 * h as u64 * g as u64));
+    let sw = w + 2 * g;
+    src[(h + 1) * sw + 1].color = 0x00ff_ffff;
+    src[(h + 1) * sw + 2].color = 0x0040_8030;
+    assert_eq!(band_differs(&src, (w, h), g).0, 2);
+    assert_eq!(band_differs(&src, (w, h), 0), (0, 0));
+}
