@@ -31,7 +31,7 @@ DEFAULT = "neverball,cubes,model,legacy,shadowmap,skybox,asteroids,glmark2-shadi
 FRAME_TIME = re.compile(r"frame time: median ([0-9.]+) ms over (\d+) frames")
 COUNTS = re.compile(r"gpu counts: .*?draws submitted (\d+) .*?fragments (\d+|n/a)")
 BAND = re.compile(r"guard band: (\d+) columns each side of the rendered views")
-COST = re.compile(r"guard band: its strips take ([0-9.]+) % of the frame[^\n]*?(off, tried again)?$", re.M)
+COST = re.compile(r"guard band: its strips take ([0-9.]+) % of the frame[^\n]*?(off, tried again in \d+ frames)?$", re.M)
 BORDER = 0.05
 
 
