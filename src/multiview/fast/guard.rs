@@ -113,14 +113,17 @@ pub fn end_frame(mv: &mut Multiview, frame: u64) {
         ));
     }
     if auto && judged && (dear || plain) {
-        let why = if dear {
-            format!(
+        let mut why = Vec::new();
+        if dear {
+            why.push(format!(
                 "more than {:.0} %: every draw of the scene is drawn twice more per rendered view",
                 AUTO_LIMIT * 100.0
-            )
-        } else {
-            "the band shows nothing the border's own pixels stretched would not".to_string()
-        };
+            ));
+        }
+        if plain {
+            why.push("the band shows nothing the border's own pixels stretched would not".to_string());
+        }
+        let why = why.join("; ");
         crate::log::info(format_args!(
             "guard band: its strips take {:.1} % of the frame{content} ({why}): off, tried again in {RETRY_AFTER} frames",
             m.share * 100.0
