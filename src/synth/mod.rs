@@ -62,16 +62,22 @@ pub struct Source {
 
 impl Source {
     /// Each part of the source (`rect`, its colour's, depth's or record's rectangle, and its
-    /// guard band) and where it goes in our arrays of `tile` between bands `guard` columns
-    /// wide (the rectangle is scaled to the tile; the bands are at the tile's scale).
-    pub fn parts(&self, rect: [i32; 4], (w, h): (i32, i32), guard: i32) -> Vec<Part> {
-        let mut parts = vec![(rect, [guard, 0, w, h])];
-        if let (Some([left, right]), true) = (self.guard, guard > 0) {
-            parts.push((left, [0, 0, guard, h]));
-            parts.push((right, [guard + w, 0, guard, h]));
-        }
-        parts
+    /// guard band) and where it goes in our arrays (`parts`).
+    pub fn parts(&self, rect: [i32; 4], tile: (i32, i32), guard: i32) -> Vec<Part> {
+        parts(rect, self.guard, tile, guard)
     }
+}
+
+/// Each part of a source (`rect`, and its guard band's strips `band`) and where it goes in our
+/// arrays of `tile` between bands `guard` columns wide (the rectangle is scaled to the tile;
+/// the bands are at the tile's scale).
+pub fn parts(rect: [i32; 4], band: Option<[[i32; 4]; 2]>, (w, h): (i32, i32), guard: i32) -> Vec<Part> {
+    let mut parts = vec![(rect, [guard, 0, w, h])];
+    if let (Some([left, right]), true) = (band, guard > 0) {
+        parts.push((left, [0, 0, guard, h]));
+        parts.push((right, [guard + w, 0, guard, h]));
+    }
+    parts
 }
 
 /// A view to synthesise.

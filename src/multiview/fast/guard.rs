@@ -63,11 +63,6 @@ impl Meter {
         draw();
         self.spent.set(self.spent.get() + start.elapsed().as_secs_f64());
     }
-
-    /// The strips' share of the frames measured so far (0 before any).
-    pub fn share(&self) -> f64 {
-        self.share
-    }
 }
 
 /// At a frame's end: the strips' cost and content measured, and the band of the next frame
@@ -211,6 +206,16 @@ pub fn width(mv: &Multiview) -> u32 {
                 0
             }
         }
+    }
+}
+
+/// The band the draw or clear being replayed now reaches: this frame's, while the scene is
+/// drawn (before the warp point), else 0.
+pub fn drawn_now(mv: &Multiview) -> u32 {
+    if mv.plan.synthesise && !mv.plan.warped {
+        mv.guard
+    } else {
+        0
     }
 }
 

@@ -186,14 +186,11 @@ pub fn capture_depth(gl: &Gl, mv: &mut Multiview) {
         .iter()
         .enumerate()
         .map(|(slot, &r)| {
-            let band = Source {
-                u: 0.0,
-                color: (quilt, [0; 4]),
-                depth: (depth_fbo(r), depth_rect(r)),
-                record: None,
-                guard: super::guard::source_strips(layout, guard, slot),
-            };
-            (depth_fbo(r), band.parts(depth_rect(r), tile, guard as i32))
+            let band = super::guard::source_strips(layout, guard, slot);
+            (
+                depth_fbo(r),
+                crate::synth::parts(depth_rect(r), band, tile, guard as i32),
+            )
         })
         .collect();
     drop((depth_fbo, depth_rect));

@@ -433,9 +433,10 @@ fn draw_tiles(
         set_view(mv, i, None);
         f(i);
     }
-    if mv.guard > 0 && mv.plan.synthesise && !mv.plan.warped {
+    let band = guard::drawn_now(mv);
+    if band > 0 {
         let rects = (app.viewport, scissored.then_some(app.scissor));
-        guard::strip_draws(mv, layout, mv.guard, rects, shifted, |strip| {
+        guard::strip_draws(mv, layout, band, rects, shifted, |strip| {
             let (vp, sc) = (strip.viewport, strip.scissor);
             // SAFETY: as above.
             unsafe {

@@ -80,9 +80,10 @@ pub fn clear(gl: &Gl, app: &mut AppState, mv: &mut Multiview, stencil: bool, f: 
         f();
     }
     // The guard band's strips are cleared as their views' tiles are.
-    if mv.guard > 0 && mv.plan.synthesise && !mv.plan.warped {
+    let band = crate::multiview::fast::guard::drawn_now(mv);
+    if band > 0 {
         let rects = (app.viewport, scissored.then_some(app.scissor));
-        crate::multiview::fast::guard::strip_draws(mv, layout, mv.guard, rects, false, |strip| {
+        crate::multiview::fast::guard::strip_draws(mv, layout, band, rects, false, |strip| {
             let r = strip.scissor;
             // SAFETY: as above.
             unsafe { gl.Scissor(r[0], r[1], r[2], r[3]) };
