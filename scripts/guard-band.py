@@ -17,7 +17,9 @@ pay: draw calls submitted and fragments shaded per frame (`--gpu-counts`).
     scripts/guard-band.py                                  # the default programs, 8x6 of 320x240
     scripts/guard-band.py --programs neverball,cubes --bands auto,8,32 --keep /tmp/gb
 
-Writes OUT/guard-band.md and prints it. Needs what scripts/disparity-agreement.py needs.
+Writes OUT/guard-band.md and prints it. Needs what scripts/disparity-agreement.py needs, and
+Neverball for its recording (`apt-get install neverball`; not in scripts/setup-debian.sh: no
+test runs it).
 """
 import argparse, os, re, shutil, subprocess, sys, tempfile, time
 
